@@ -1,0 +1,1 @@
+//! The Delaunay kernel (paper §3).

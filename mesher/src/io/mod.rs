@@ -1,0 +1,2 @@
+//! File formats: surface readers and volume-mesh writers and readers. All file IO of the
+//! library lives here.

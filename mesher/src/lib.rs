@@ -1,0 +1,19 @@
+//! `mesher`: tetrahedral mesh generation after P.J. Frey, H. Borouchaki and P.-L. George,
+//! "3D Delaunay mesh generation coupled with an advancing-front approach", Comput.
+//! Methods Appl. Mech. Engrg. 157 (1998) 115-131.
+//!
+//! Dependency order (never backwards): [`geom`] <- [`tetmesh`] <- [`delaunay`] <- mesher
+//! stages <- CLI. [`surface`], [`io`] and [`quality`] sit beside the kernel: the kernel
+//! never reads files and never computes quality.
+
+pub mod delaunay;
+pub mod geom;
+pub mod io;
+pub mod quality;
+pub mod surface;
+pub mod tetmesh;
+pub mod volume;
+
+pub use geom::Point;
+pub use surface::Surface;
+pub use volume::VolumeMesh;

@@ -1,0 +1,2 @@
+//! The `mesher` command line.
+fn main() {}

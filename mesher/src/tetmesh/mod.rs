@@ -1,0 +1,1 @@
+//! The tetrahedral mesh data structure (flat arrays, typed ids, ghost vertex).

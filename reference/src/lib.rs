@@ -1,0 +1,1 @@
+//! Drivers of external meshers (CGAL programs compiled by `cc`, command lines of TetGen).
