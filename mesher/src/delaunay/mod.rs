@@ -1,1 +1,224 @@
-//! The Delaunay kernel (paper §3).
+//! The Delaunay kernel of the paper (§3): incremental insertion `T = T - C(P) + B(P)`
+//! with exact, symbolically perturbed predicates, and bulk triangulation of a point set
+//! in BRIO/Hilbert order.
+//!
+//! [`triangulate`] builds the Delaunay tetrahedralisation of any point set with at least
+//! four affinely independent points (duplicates are merged and reported). [`box_mesh`]
+//! gives the paper's starting mesh: the 8 corners of an enlarged bounding box split into
+//! 5 tets (§4.1).
+
+mod kernel;
+pub mod sort;
+
+pub use kernel::{Inserted, Kernel, KernelStats, Location};
+
+use crate::geom::predicates::{orient2d, orient3d, Orientation};
+use crate::geom::Point;
+use crate::tetmesh::{TetMesh, VertexId};
+use thiserror::Error;
+
+/// Why a point set cannot be triangulated.
+#[derive(Debug, Error, PartialEq)]
+pub enum DelaunayError {
+    /// A coordinate is NaN or infinite.
+    #[error("point {index} has a non-finite coordinate ({x}, {y}, {z})")]
+    NonFinite {
+        /// Index of the point in the input.
+        index: usize,
+        /// x.
+        x: f64,
+        /// y.
+        y: f64,
+        /// z.
+        z: f64,
+    },
+    /// Fewer than four affinely independent points: no tet exists.
+    #[error("the {distinct} distinct points are {what}: no tetrahedron can be built")]
+    Degenerate {
+        /// How many distinct points were seen.
+        distinct: usize,
+        /// "coincident", "collinear" or "coplanar".
+        what: &'static str,
+    },
+    /// More tets than the id space holds.
+    #[error("too many tets for 32-bit ids")]
+    TooManyTets,
+}
+
+/// How the points are ordered before insertion.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum InsertionOrder {
+    /// Biased randomized insertion order with Hilbert-sorted rounds (default).
+    #[default]
+    Brio,
+    /// One Hilbert sort of all points.
+    Hilbert,
+    /// The input order.
+    Input,
+}
+
+/// Options of [`triangulate`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DelaunayOptions {
+    /// Insertion order.
+    pub order: InsertionOrder,
+    /// Seed of the BRIO shuffle (output is deterministic for a given seed).
+    pub seed: u64,
+}
+
+impl Default for DelaunayOptions {
+    fn default() -> Self {
+        DelaunayOptions {
+            order: InsertionOrder::Brio,
+            seed: 0x5EED,
+        }
+    }
+}
+
+/// The result of [`triangulate`].
+#[derive(Debug)]
+pub struct Triangulation {
+    /// The mesh; its vertices are stored in insertion order.
+    pub mesh: TetMesh,
+    /// For each input point, its vertex (duplicates share one).
+    pub vertex_of_input: Vec<VertexId>,
+    /// Number of input points merged into an earlier identical point.
+    pub duplicates: usize,
+    /// Kernel counters.
+    pub stats: KernelStats,
+}
+
+/// The Delaunay tetrahedralisation of `points`.
+pub fn triangulate(
+    points: &[Point],
+    options: &DelaunayOptions,
+) -> Result<Triangulation, DelaunayError> {
+    if let Some(index) = points.iter().position(|p| !p.is_finite()) {
+        let p = points[index];
+        return Err(DelaunayError::NonFinite {
+            index,
+            x: p.x,
+            y: p.y,
+            z: p.z,
+        });
+    }
+    let order: Vec<u32> = match options.order {
+        InsertionOrder::Brio => sort::brio_order(points, options.seed),
+        InsertionOrder::Hilbert => sort::hilbert_order(points),
+        InsertionOrder::Input => (0..points.len() as u32).collect(),
+    };
+    let simplex = initial_simplex(points, &order)?;
+    let mut vertex_of_input = vec![VertexId(0); points.len()];
+    for (k, &i) in simplex.iter().enumerate() {
+        vertex_of_input[i as usize] = VertexId(k as u32);
+    }
+    let seed: Vec<Point> = simplex.iter().map(|&i| points[i as usize]).collect();
+    let mut mesh =
+        TetMesh::from_tets(seed, &[[0, 1, 2, 3]]).map_err(|_| DelaunayError::TooManyTets)?;
+    mesh.reserve_vertices(points.len());
+    mesh.reserve_tets(points.len() * 7);
+    let mut kernel = Kernel::new();
+    let mut duplicates = 0;
+    for &i in &order {
+        if simplex.contains(&i) {
+            continue;
+        }
+        let ins = kernel.insert(&mut mesh, points[i as usize])?;
+        if matches!(ins, Inserted::Duplicate(_)) {
+            duplicates += 1;
+        }
+        vertex_of_input[i as usize] = ins.vertex();
+    }
+    Ok(Triangulation {
+        mesh,
+        vertex_of_input,
+        duplicates,
+        stats: kernel.stats,
+    })
+}
+
+/// Four affinely independent input points, the first found along `order`, listed so
+/// that they form a positive tet.
+fn initial_simplex(points: &[Point], order: &[u32]) -> Result<[u32; 4], DelaunayError> {
+    let p = |i: u32| points[i as usize];
+    let Some(&a) = order.first() else {
+        return Err(DelaunayError::Degenerate {
+            distinct: 0,
+            what: "fewer than four",
+        });
+    };
+    let b = order.iter().copied().find(|&i| p(i) != p(a));
+    let Some(b) = b else {
+        return Err(DelaunayError::Degenerate {
+            distinct: 1,
+            what: "coincident",
+        });
+    };
+    let c = order
+        .iter()
+        .copied()
+        .find(|&i| !collinear(p(a), p(b), p(i)));
+    let Some(c) = c else {
+        return Err(DelaunayError::Degenerate {
+            distinct: 2,
+            what: "collinear",
+        });
+    };
+    let mut d_or = Orientation::Zero;
+    let d = order.iter().copied().find(|&i| {
+        d_or = orient3d(p(a), p(b), p(c), p(i));
+        d_or != Orientation::Zero
+    });
+    let Some(d) = d else {
+        return Err(DelaunayError::Degenerate {
+            distinct: 3,
+            what: "coplanar",
+        });
+    };
+    Ok(if d_or == Orientation::Positive {
+        [a, b, c, d]
+    } else {
+        [b, a, c, d]
+    })
+}
+
+/// Exact collinearity: the three points are collinear iff every axis-aligned projection
+/// of the triangle is degenerate.
+fn collinear(a: Point, b: Point, c: Point) -> bool {
+    let z = |i: usize, j: usize| {
+        orient2d([a[i], a[j]], [b[i], b[j]], [c[i], c[j]]) == Orientation::Zero
+    };
+    z(0, 1) && z(1, 2) && z(0, 2)
+}
+
+/// The paper's starting mesh (§4.1): the 8 corners of the box `[min, max]` split into 5
+/// tets (four corner tets and a central one), with ghosts outside. Corner `i` is
+/// `(x, y, z)` with x from bit 0, y from bit 1, z from bit 2 of `i`.
+pub fn box_mesh(min: Point, max: Point) -> Result<TetMesh, DelaunayError> {
+    if !(min.is_finite() && max.is_finite()) || min.cmpge(max).any() {
+        return Err(DelaunayError::Degenerate {
+            distinct: 0,
+            what: "an empty box",
+        });
+    }
+    let corners: Vec<Point> = (0..8)
+        .map(|i| {
+            Point::new(
+                if i & 1 != 0 { max.x } else { min.x },
+                if i & 2 != 0 { max.y } else { min.y },
+                if i & 4 != 0 { max.z } else { min.z },
+            )
+        })
+        .collect();
+    let mut tets = [[0, 1, 2, 4], [3, 2, 1, 7], [5, 1, 4, 7], [6, 4, 2, 7], [1, 2, 4, 7]];
+    for t in &mut tets {
+        let q = |k: usize| corners[t[k] as usize];
+        if orient3d(q(0), q(1), q(2), q(3)) == Orientation::Negative {
+            t.swap(0, 1);
+        }
+    }
+    TetMesh::from_tets(corners, &tets).map_err(|_| DelaunayError::TooManyTets)
+}
+
+#[cfg(test)]
+mod tests;

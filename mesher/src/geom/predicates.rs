@@ -206,11 +206,18 @@ fn lex_less(p: DVec3, q: DVec3) -> bool {
 /// larger for lexicographically larger points. When the exact determinant is zero the
 /// sign is read from the coefficient of the largest perturbation whose cofactor (an
 /// orientation of the four other points) is not zero.
+#[inline]
 pub fn insphere_perturbed(a: DVec3, b: DVec3, c: DVec3, d: DVec3, e: DVec3) -> Sphere {
     match insphere(a, b, c, d, e) {
-        Sphere::On => {}
-        s => return s,
+        Sphere::On => insphere_tie_break(a, b, c, d, e),
+        s => s,
     }
+}
+
+/// The symbolic perturbation of [`insphere_perturbed`] for an exact tie.
+#[cold]
+#[inline(never)]
+fn insphere_tie_break(a: DVec3, b: DVec3, c: DVec3, d: DVec3, e: DVec3) -> Sphere {
     let mut pts = [(a, 0usize), (b, 1), (c, 2), (d, 3), (e, 4)];
     // Sort descending: the largest point carries the dominant perturbation.
     pts.sort_by(|p, q| {

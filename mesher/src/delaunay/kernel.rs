@@ -1,0 +1,409 @@
+//! Point insertion: the Delaunay kernel `T = T - C(P) + B(P)` of the paper (§3), with
+//! the Bowyer-Watson cavity grown by adjacency.
+//!
+//! - Location: visibility walk with a randomised order of the faces tried (Devillers,
+//!   Pion, Teillaud, "Walking in a triangulation", IJFCS 2002), started from the last
+//!   created tet; bounded, with an exhaustive scan as the fallback.
+//! - Cavity `C(P)`: breadth-first over neighbours, each tet stamped in/out once per
+//!   insertion, so nothing is cleared afterwards. A finite tet is in conflict when `P`
+//!   is inside its circumsphere (perturbed predicate: ties never occur); a ghost tet
+//!   `(a, b, c, GHOST)` when `P` is strictly beyond the hull face `(a, b, c)`, or on its
+//!   plane and in conflict with the finite tet behind it (whose circumsphere cuts that
+//!   plane in the circumcircle of the face).
+//! - Ball `B(P)`: each cavity boundary face makes a new tet by putting `P` in place of the
+//!   cavity tet's vertex opposite that face, which keeps the orientation because the
+//!   cavity is star-shaped. Inner adjacencies are paired through a small matrix indexed
+//!   by per-insertion local vertex ids (HXT's scheme), with a hash map for huge cavities.
+
+use super::DelaunayError;
+use crate::geom::predicates::{insphere_perturbed, orient3d, Orientation, Sphere};
+use crate::geom::Point;
+use crate::tetmesh::{FaceRef, TetId, TetMesh, VertexId, FACE_VERTICES};
+use std::collections::HashMap;
+
+const GHOST: u32 = VertexId::GHOST.0;
+/// Local ids available in the pairing matrix (id 0 is the ghost vertex).
+const LOCAL_IDS: usize = 64;
+
+/// Where a point lies in the mesh.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Location {
+    /// In the closed finite tet.
+    InTet(TetId),
+    /// Outside the hull, strictly beyond the hull face of this ghost tet.
+    Outside(TetId),
+    /// Exactly on an existing vertex.
+    OnVertex(VertexId),
+}
+
+/// One face of the cavity boundary and the tet it will produce.
+#[derive(Clone, Copy, Debug)]
+struct BoundaryFace {
+    /// The new tet's vertices (the cavity tet's with the new point at `slot`).
+    verts: [u32; 4],
+    /// Slot of the new point.
+    slot: u8,
+    /// The tet outside the cavity across this face.
+    outer: FaceRef,
+}
+
+/// Counters of the kernel, cheap enough to keep always on.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct KernelStats {
+    /// Points inserted.
+    pub inserted: u64,
+    /// Points found on an existing vertex.
+    pub duplicates: u64,
+    /// Tets visited by walks.
+    pub walk_steps: u64,
+    /// Walks that hit the step bound and fell back to a scan.
+    pub walk_fallbacks: u64,
+    /// Tets removed by cavities.
+    pub cavity_tets: u64,
+    /// Cavities too large for the pairing matrix.
+    pub large_cavities: u64,
+}
+
+/// The insertion engine: per-tet stamps and scratch buffers reused by every insertion,
+/// so an insertion allocates nothing.
+#[derive(Debug, Default)]
+pub struct Kernel {
+    stamp: Vec<u32>,
+    epoch: u32,
+    vstamp: Vec<u32>,
+    vlocal: Vec<u8>,
+    stack: Vec<u32>,
+    cavity: Vec<u32>,
+    boundary: Vec<BoundaryFace>,
+    new_tets: Vec<u32>,
+    pairs: Vec<u32>,
+    big_pairs: HashMap<(u32, u32), FaceRef>,
+    rng: u64,
+    last: u32,
+    /// Counters since the kernel was made.
+    pub stats: KernelStats,
+}
+
+impl Kernel {
+    /// A kernel for `mesh`.
+    pub fn new() -> Self {
+        Kernel {
+            pairs: vec![0; LOCAL_IDS * LOCAL_IDS],
+            rng: 0x2545_F491_4F6C_DD1D,
+            ..Kernel::default()
+        }
+    }
+
+    /// Sets the tet where the next walk starts.
+    pub fn set_hint(&mut self, t: TetId) {
+        self.last = t.0;
+    }
+
+    #[inline]
+    fn next_rand(&mut self) -> u32 {
+        // xorshift64: only used to vary the order of faces tried by the walk.
+        self.rng ^= self.rng << 13;
+        self.rng ^= self.rng >> 7;
+        self.rng ^= self.rng << 17;
+        (self.rng >> 32) as u32
+    }
+
+    /// Locates `p`, walking from the hint.
+    pub fn locate(&mut self, mesh: &TetMesh, p: Point) -> Location {
+        let mut t = self.last;
+        if t as usize >= mesh.num_slots() || !mesh.is_alive(TetId(t)) {
+            t = mesh.tets().next().map_or(0, |t| t.0);
+        }
+        if mesh.is_ghost(TetId(t)) {
+            t = FaceRef::from_raw(mesh.raw_adj(t)[3]).tet().0;
+        }
+        let bound = 64 + 4 * mesh.num_slots() as u64;
+        let mut came = 4usize;
+        let mut steps = 0u64;
+        'walk: while steps < bound {
+            steps += 1;
+            let v = mesh.raw_tet(t);
+            let q = [pt(mesh, v[0]), pt(mesh, v[1]), pt(mesh, v[2]), pt(mesh, v[3])];
+            let r = self.next_rand() as usize;
+            for k in 0..4 {
+                let i = (r + k) & 3;
+                if i == came {
+                    continue;
+                }
+                let mut s = q;
+                s[i] = p;
+                if orient3d(s[0], s[1], s[2], s[3]) == Orientation::Negative {
+                    let f = FaceRef::from_raw(mesh.raw_adj(t)[i]);
+                    t = f.tet().0;
+                    came = f.facet();
+                    if mesh.is_ghost(TetId(t)) {
+                        self.stats.walk_steps += steps;
+                        return Location::Outside(TetId(t));
+                    }
+                    continue 'walk;
+                }
+            }
+            self.stats.walk_steps += steps;
+            return on_vertex(&q, &v, p).unwrap_or(Location::InTet(TetId(t)));
+        }
+        self.stats.walk_steps += steps;
+        self.stats.walk_fallbacks += 1;
+        locate_by_scan(mesh, p)
+    }
+
+    /// Inserts `p`: a new vertex, or the existing vertex at the same coordinates.
+    pub fn insert(&mut self, mesh: &mut TetMesh, p: Point) -> Result<Inserted, DelaunayError> {
+        let start = match self.locate(mesh, p) {
+            Location::OnVertex(v) => {
+                self.stats.duplicates += 1;
+                return Ok(Inserted::Duplicate(v));
+            }
+            Location::InTet(t) | Location::Outside(t) => t.0,
+        };
+        self.grow_cavity(mesh, p, start);
+        let v = mesh.push_vertex(p);
+        self.fill_cavity(mesh, v.0)?;
+        self.stats.inserted += 1;
+        Ok(Inserted::New(v))
+    }
+
+    fn next_epoch(&mut self, mesh: &TetMesh) -> (u32, u32) {
+        if self.stamp.len() < mesh.num_slots() {
+            self.stamp.resize(mesh.num_slots().max(1024) * 5 / 4, 0);
+        }
+        if self.epoch >= u32::MAX - 4 {
+            self.stamp.iter_mut().for_each(|s| *s = 0);
+            self.vstamp.iter_mut().for_each(|s| *s = 0);
+            self.epoch = 0;
+        }
+        self.epoch += 2;
+        (self.epoch, self.epoch + 1)
+    }
+
+    /// Collects the conflict region of `p` from `start` (which must be in conflict) and
+    /// its boundary faces.
+    fn grow_cavity(&mut self, mesh: &TetMesh, p: Point, start: u32) {
+        let (inside, outside) = self.next_epoch(mesh);
+        self.cavity.clear();
+        self.boundary.clear();
+        self.stack.clear();
+        self.stamp[start as usize] = inside;
+        self.stack.push(start);
+        self.cavity.push(start);
+        while let Some(c) = self.stack.pop() {
+            let adj = mesh.raw_adj(c);
+            for (i, &a) in adj.iter().enumerate() {
+                let f = FaceRef::from_raw(a);
+                let u = f.tet().0;
+                let s = self.stamp[u as usize];
+                if s == inside {
+                    continue;
+                }
+                if s != outside && in_conflict(mesh, u, p) {
+                    self.stamp[u as usize] = inside;
+                    self.stack.push(u);
+                    self.cavity.push(u);
+                    continue;
+                }
+                self.stamp[u as usize] = outside;
+                let mut verts = mesh.raw_tet(c);
+                verts[i] = u32::MAX - 2; // placeholder for the new vertex
+                self.boundary.push(BoundaryFace {
+                    verts,
+                    slot: i as u8,
+                    outer: f,
+                });
+            }
+        }
+        self.stats.cavity_tets += self.cavity.len() as u64;
+    }
+
+    /// Replaces the cavity by the ball of vertex `v`.
+    fn fill_cavity(&mut self, mesh: &mut TetMesh, v: u32) -> Result<(), DelaunayError> {
+        let nb = self.boundary.len();
+        let nc = self.cavity.len();
+        self.new_tets.clear();
+        self.new_tets.extend_from_slice(&self.cavity[..nc.min(nb)]);
+        for &t in &self.cavity[nb.min(nc)..] {
+            mesh.free_tet(t);
+        }
+        while self.new_tets.len() < nb {
+            let t = mesh.alloc_tet().ok_or(DelaunayError::TooManyTets)?;
+            self.new_tets.push(t);
+        }
+        if self.stamp.len() < mesh.num_slots() {
+            self.stamp.resize(mesh.num_slots() * 5 / 4, 0);
+        }
+        for k in 0..nb {
+            let b = &mut self.boundary[k];
+            b.verts[b.slot as usize] = v;
+            let t = self.new_tets[k];
+            mesh.set_tet(t, b.verts);
+            mesh.link(FaceRef::new(TetId(t), b.slot as usize), b.outer);
+            // A reused slot must not keep the cavity's "inside" stamp.
+            self.stamp[t as usize] = 0;
+        }
+        self.pair_inner_faces(mesh, v);
+        self.last = self.new_tets[0];
+        Ok(())
+    }
+
+    /// Links the new tets to each other: two new tets share a face `(v, x, y)` exactly
+    /// when one lists the directed edge `x -> y` after `v` and the other `y -> x`.
+    fn pair_inner_faces(&mut self, mesh: &mut TetMesh, v: u32) {
+        let epoch = self.epoch;
+        if self.vstamp.len() < mesh.num_vertices() {
+            let n = mesh.num_vertices() * 5 / 4 + 16;
+            self.vstamp.resize(n, 0);
+            self.vlocal.resize(n, 0);
+        }
+        let mut next_local = 1usize;
+        let mut overflow = false;
+        for b in &self.boundary {
+            for &x in &b.verts {
+                if x == v || x == GHOST || self.vstamp[x as usize] == epoch {
+                    continue;
+                }
+                self.vstamp[x as usize] = epoch;
+                if next_local < LOCAL_IDS {
+                    self.vlocal[x as usize] = next_local as u8;
+                }
+                next_local += 1;
+            }
+        }
+        if next_local > LOCAL_IDS {
+            overflow = true;
+            self.stats.large_cavities += 1;
+            self.big_pairs.clear();
+        }
+        let local = |x: u32, vl: &[u8]| -> usize {
+            if x == GHOST {
+                0
+            } else {
+                vl[x as usize] as usize
+            }
+        };
+        for pass in 0..2 {
+            for k in 0..self.boundary.len() {
+                let b = self.boundary[k];
+                let t = self.new_tets[k];
+                for j in 0..4 {
+                    if j == b.slot as usize {
+                        continue;
+                    }
+                    let (x, y) = edge_after(&b.verts, j, v);
+                    let here = FaceRef::new(TetId(t), j);
+                    if overflow {
+                        if pass == 0 {
+                            if let Some(other) = self.big_pairs.remove(&(y, x)) {
+                                mesh.link(here, other);
+                            } else {
+                                self.big_pairs.insert((x, y), here);
+                            }
+                        }
+                        continue;
+                    }
+                    let (lx, ly) = (local(x, &self.vlocal), local(y, &self.vlocal));
+                    if pass == 0 {
+                        self.pairs[lx * LOCAL_IDS + ly] = here.raw();
+                    } else {
+                        let other = self.pairs[ly * LOCAL_IDS + lx];
+                        mesh.set_adj(t, j, FaceRef::from_raw(other));
+                    }
+                }
+            }
+            if overflow {
+                break;
+            }
+        }
+    }
+}
+
+/// What [`Kernel::insert`] did.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Inserted {
+    /// A new vertex.
+    New(VertexId),
+    /// The point coincides with this existing vertex; nothing changed.
+    Duplicate(VertexId),
+}
+
+impl Inserted {
+    /// The vertex at the point.
+    pub fn vertex(self) -> VertexId {
+        match self {
+            Inserted::New(v) | Inserted::Duplicate(v) => v,
+        }
+    }
+}
+
+/// The directed edge that follows `v` in the oriented face opposite slot `j`.
+#[inline]
+fn edge_after(verts: &[u32; 4], j: usize, v: u32) -> (u32, u32) {
+    let f = FACE_VERTICES[j];
+    let a = [verts[f[0]], verts[f[1]], verts[f[2]]];
+    if a[0] == v {
+        (a[1], a[2])
+    } else if a[1] == v {
+        (a[2], a[0])
+    } else {
+        (a[0], a[1])
+    }
+}
+
+#[inline]
+fn pt(mesh: &TetMesh, v: u32) -> Point {
+    mesh.point(VertexId(v))
+}
+
+/// Is tet `t` in conflict with `p` (see the module doc)?
+#[inline]
+fn in_conflict(mesh: &TetMesh, t: u32, p: Point) -> bool {
+    let v = mesh.raw_tet(t);
+    if v[3] == GHOST {
+        match orient3d(pt(mesh, v[0]), pt(mesh, v[1]), pt(mesh, v[2]), p) {
+            Orientation::Positive => true,
+            Orientation::Negative => false,
+            Orientation::Zero => {
+                let behind = FaceRef::from_raw(mesh.raw_adj(t)[3]).tet().0;
+                in_conflict(mesh, behind, p)
+            }
+        }
+    } else {
+        let q = [pt(mesh, v[0]), pt(mesh, v[1]), pt(mesh, v[2]), pt(mesh, v[3])];
+        insphere_perturbed(q[0], q[1], q[2], q[3], p) == Sphere::Inside
+    }
+}
+
+#[inline]
+fn on_vertex(q: &[Point; 4], v: &[u32; 4], p: Point) -> Option<Location> {
+    (0..4)
+        .find(|&i| q[i] == p)
+        .map(|i| Location::OnVertex(VertexId(v[i])))
+}
+
+/// Exhaustive location, used only when a walk exceeds its bound.
+fn locate_by_scan(mesh: &TetMesh, p: Point) -> Location {
+    let mut outside = None;
+    for t in mesh.tets() {
+        let v = mesh.raw_tet(t.0);
+        if v[3] == GHOST {
+            let o = orient3d(pt(mesh, v[0]), pt(mesh, v[1]), pt(mesh, v[2]), p);
+            if o == Orientation::Positive && outside.is_none() {
+                outside = Some(t);
+            }
+            continue;
+        }
+        let q = [pt(mesh, v[0]), pt(mesh, v[1]), pt(mesh, v[2]), pt(mesh, v[3])];
+        let inside = (0..4).all(|i| {
+            let mut s = q;
+            s[i] = p;
+            orient3d(s[0], s[1], s[2], s[3]) != Orientation::Negative
+        });
+        if inside {
+            return on_vertex(&q, &v, p).unwrap_or(Location::InTet(t));
+        }
+    }
+    // A point is either in a finite tet or beyond some hull face.
+    Location::Outside(outside.unwrap_or(TetId(0)))
+}
