@@ -1,2 +1,206 @@
-//! The `mesher` command line.
-fn main() {}
+//! The `mesher` command line: thin wrappers over the library.
+//!
+//! - `mesher delaunay INPUT -o OUT`: Delaunay tetrahedralisation of the vertices of a
+//!   surface or of a TetGen `.node` point file (paper §3).
+//! - `mesher check SURFACE`: the defects of a surface; exit code 0 clean, 1 defects.
+//! - `mesher generate KIND -o OUT`: deterministic test surfaces.
+
+use anyhow::{Context, Result};
+use clap::{Parser, Subcommand, ValueEnum};
+use mesher::delaunay::{triangulate, DelaunayOptions, InsertionOrder};
+use mesher::surface::generate;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+#[derive(Parser)]
+#[command(name = "mesher", version, about = "Tetrahedral mesh generator (Frey, Borouchaki, George 1998)")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Delaunay tetrahedralisation of a point set (.node) or of a surface's vertices.
+    Delaunay {
+        /// Input: .node points, or a surface (.off, .obj, .stl, .mesh).
+        input: PathBuf,
+        /// Output mesh (.mesh, .vtu, .msh, .node); nothing is written without it.
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Print a JSON line of statistics on stdout.
+        #[arg(long)]
+        stats: bool,
+        /// Check every invariant and the empty-sphere property afterwards.
+        #[arg(long)]
+        validate: bool,
+        /// Insertion order.
+        #[arg(long, value_enum, default_value_t = Order::Brio)]
+        order: Order,
+        /// Seed of the randomised insertion order.
+        #[arg(long, default_value_t = DelaunayOptions::default().seed)]
+        seed: u64,
+    },
+    /// Check a surface: open, non-manifold, self-intersecting, degenerate.
+    Check {
+        /// The surface (.off, .obj, .stl, .mesh).
+        surface: PathBuf,
+        /// Print the report as JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Write a generated test surface.
+    Generate {
+        /// What to generate.
+        #[arg(value_enum)]
+        kind: Kind,
+        /// Subdivision level (sphere: 20 * 4^level triangles) or resolution.
+        #[arg(short, long, default_value_t = 4)]
+        level: u32,
+        /// Output surface (.off).
+        #[arg(short, long)]
+        output: PathBuf,
+    },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum Order {
+    Brio,
+    Hilbert,
+    Input,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum Kind {
+    Sphere,
+    Torus,
+    Cube,
+}
+
+fn main() -> ExitCode {
+    match run(Cli::parse()) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("mesher: error: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn run(cli: Cli) -> Result<ExitCode> {
+    match cli.command {
+        Command::Delaunay {
+            input,
+            output,
+            stats,
+            validate,
+            order,
+            seed,
+        } => {
+            let order = match order {
+                Order::Brio => InsertionOrder::Brio,
+                Order::Hilbert => InsertionOrder::Hilbert,
+                Order::Input => InsertionOrder::Input,
+            };
+            delaunay(&input, output.as_deref(), stats, validate, DelaunayOptions { order, seed })
+        }
+        Command::Check { surface, json } => check(&surface, json),
+        Command::Generate {
+            kind,
+            level,
+            output,
+        } => {
+            let s = match kind {
+                Kind::Sphere => generate::icosphere(level),
+                Kind::Torus => generate::torus(8 * level.max(1) as usize, 4 * level.max(1) as usize, 1.0, 0.35),
+                Kind::Cube => generate::cube(level.max(1) as usize),
+            };
+            mesher::io::write_surface(&output, &s)
+                .with_context(|| format!("writing {}", output.display()))?;
+            eprintln!(
+                "mesher: wrote {} ({} vertices, {} triangles)",
+                output.display(),
+                s.vertices.len(),
+                s.triangles.len()
+            );
+            Ok(ExitCode::SUCCESS)
+        }
+    }
+}
+
+fn read_points(input: &Path) -> Result<Vec<mesher::Point>> {
+    let is_node = input.extension().is_some_and(|e| e.eq_ignore_ascii_case("node"));
+    if is_node {
+        Ok(mesher::io::points::read_node_points(input)?)
+    } else {
+        Ok(mesher::io::read_surface(input)?.surface.vertices)
+    }
+}
+
+fn delaunay(
+    input: &Path,
+    output: Option<&Path>,
+    stats: bool,
+    validate: bool,
+    options: DelaunayOptions,
+) -> Result<ExitCode> {
+    let t_read = Instant::now();
+    let points = read_points(input)?;
+    let read_s = t_read.elapsed().as_secs_f64();
+    let t0 = Instant::now();
+    let tr = triangulate(&points, &options)?;
+    let insert_s = t0.elapsed().as_secs_f64();
+    if validate {
+        tr.mesh
+            .validate(true)
+            .context("the triangulation failed validation")?;
+    }
+    let tets = tr.mesh.num_finite_tets();
+    if let Some(out) = output {
+        mesher::io::write_volume(out, &tr.mesh.to_volume_mesh())
+            .with_context(|| format!("writing {}", out.display()))?;
+    }
+    if stats {
+        let s = serde_json::json!({
+            "peer": "ours",
+            "points": points.len(),
+            "vertices": tr.mesh.num_vertices(),
+            "duplicates": tr.duplicates,
+            "tets": tets,
+            "read_seconds": read_s,
+            "insert_seconds": insert_s,
+            "validated": validate,
+            "walk_steps": tr.stats.walk_steps,
+            "cavity_tets": tr.stats.cavity_tets,
+        });
+        println!("{s}");
+    } else {
+        eprintln!(
+            "mesher: {} points -> {} vertices ({} duplicates), {} tets in {:.3} s",
+            points.len(),
+            tr.mesh.num_vertices(),
+            tr.duplicates,
+            tets,
+            insert_s
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn check(path: &Path, json: bool) -> Result<ExitCode> {
+    let read = mesher::io::read_surface(path)?;
+    let report = read.surface.check();
+    if json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        println!("{}: {} welded vertices", path.display(), read.welded_vertices);
+        println!("{report}");
+    }
+    if report.is_clean() {
+        Ok(ExitCode::SUCCESS)
+    } else {
+        Ok(ExitCode::from(1))
+    }
+}
+
