@@ -11,7 +11,7 @@ use std::path::Path;
 /// Why a `.node` file could not be read. Line numbers are 1-based.
 #[derive(Debug, thiserror::Error)]
 pub enum NodeError {
-    #[error("{path}: {source}")]
+    #[error("cannot read {path}")]
     Io {
         path: String,
         source: std::io::Error,

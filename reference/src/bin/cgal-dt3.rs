@@ -2,7 +2,16 @@
 //! point set; prints one JSON line with counts and the insertion time.
 
 #[cfg(has_cgal)]
-fn main() -> anyhow::Result<()> {
+fn main() {
+    // One line on failure (no backtrace): the bench script keeps stderr tails.
+    if let Err(e) = run() {
+        eprintln!("cgal-dt3: {e:#}");
+        std::process::exit(1);
+    }
+}
+
+#[cfg(has_cgal)]
+fn run() -> anyhow::Result<()> {
     use clap::Parser;
 
     /// Delaunay tetrahedralisation of a .node point set with CGAL (EPICK, range insertion).

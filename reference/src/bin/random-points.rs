@@ -20,7 +20,14 @@ struct Args {
     output: Option<PathBuf>,
 }
 
-fn main() -> anyhow::Result<()> {
+fn main() {
+    if let Err(e) = run() {
+        eprintln!("random-points: {e:#}");
+        std::process::exit(1);
+    }
+}
+
+fn run() -> anyhow::Result<()> {
     let args = Args::parse();
     let pts = reference::rng::unit_cube_points(args.n, args.seed);
     let sink: Box<dyn Write> = match &args.output {
