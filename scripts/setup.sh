@@ -5,7 +5,8 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 venv="${MESHER_VENV:-$root/.venv}"
 
-apt_pkgs=(tetgen libcgal-dev libgmp-dev libmpfr-dev python3-venv)
+# g++ builds the CGAL driver (reference/build.rs); time (/usr/bin/time -v) is used by scripts/bench-kernel.sh.
+apt_pkgs=(tetgen libcgal-dev libgmp-dev libmpfr-dev g++ time python3-venv)
 missing=()
 for p in "${apt_pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
