@@ -4,9 +4,9 @@
 //! - Location: visibility walk with a randomised order of the faces tried (Devillers,
 //!   Pion, Teillaud, "Walking in a triangulation", IJFCS 2002), started from the last
 //!   created tet; bounded, with an exhaustive scan as the fallback.
-//! - Cavity `C(P)`: breadth-first over neighbours, each tet stamped in/out once per
-//!   insertion, so nothing is cleared afterwards. A finite tet is in conflict when `P`
-//!   is inside its circumsphere (perturbed predicate: ties never occur); a ghost tet
+//! - Cavity `C(P)`: breadth-first over neighbours, each tet marked in/out once per
+//!   insertion (the marks are cleared from the cavity and boundary lists afterwards).
+//!   A finite tet is in conflict when `P` is inside its circumsphere (perturbed predicate: ties never occur); a ghost tet
 //!   `(a, b, c, GHOST)` when `P` is strictly beyond the hull face `(a, b, c)`, or on its
 //!   plane and in conflict with the finite tet behind it (whose circumsphere cuts that
 //!   plane in the circumcircle of the face).
@@ -24,6 +24,12 @@ use std::collections::HashMap;
 const GHOST: u32 = VertexId::GHOST.0;
 /// Local ids available in the pairing matrix (id 0 is the ghost vertex).
 const LOCAL_IDS: usize = 64;
+/// Size of the local-id hash table (a power of two, well above [`LOCAL_IDS`]).
+const LOCAL_TABLE: usize = 256;
+/// Mark of a tet in the cavity.
+const IN: u8 = 1;
+/// Mark of a tet tested and found outside the cavity.
+const OUT: u8 = 2;
 
 /// Where a point lies in the mesh.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -64,14 +70,15 @@ pub struct KernelStats {
     pub large_cavities: u64,
 }
 
-/// The insertion engine: per-tet stamps and scratch buffers reused by every insertion,
+/// The insertion engine: per-tet marks and scratch buffers reused by every insertion,
 /// so an insertion allocates nothing.
 #[derive(Debug, Default)]
 pub struct Kernel {
-    stamp: Vec<u32>,
-    epoch: u32,
-    vstamp: Vec<u32>,
-    vlocal: Vec<u8>,
+    /// Per tet slot: [`IN`], [`OUT`] or 0; non-zero only during an insertion.
+    marks: Vec<u8>,
+    /// Open-addressing table vertex id -> local id, cleared per insertion.
+    local_keys: Vec<u32>,
+    local_vals: Vec<u8>,
     stack: Vec<u32>,
     cavity: Vec<u32>,
     boundary: Vec<BoundaryFace>,
@@ -89,6 +96,8 @@ impl Kernel {
     pub fn new() -> Self {
         Kernel {
             pairs: vec![0; LOCAL_IDS * LOCAL_IDS],
+            local_keys: vec![u32::MAX; LOCAL_TABLE],
+            local_vals: vec![0; LOCAL_TABLE],
             rng: 0x2545_F491_4F6C_DD1D,
             ..Kernel::default()
         }
@@ -167,27 +176,20 @@ impl Kernel {
         Ok(Inserted::New(v))
     }
 
-    fn next_epoch(&mut self, mesh: &TetMesh) -> (u32, u32) {
-        if self.stamp.len() < mesh.num_slots() {
-            self.stamp.resize(mesh.num_slots().max(1024) * 5 / 4, 0);
+    fn ensure_marks(&mut self, mesh: &TetMesh) {
+        if self.marks.len() < mesh.num_slots() {
+            self.marks.resize(mesh.num_slots().max(1024) * 5 / 4, 0);
         }
-        if self.epoch >= u32::MAX - 4 {
-            self.stamp.iter_mut().for_each(|s| *s = 0);
-            self.vstamp.iter_mut().for_each(|s| *s = 0);
-            self.epoch = 0;
-        }
-        self.epoch += 2;
-        (self.epoch, self.epoch + 1)
     }
 
     /// Collects the conflict region of `p` from `start` (which must be in conflict) and
     /// its boundary faces.
     fn grow_cavity(&mut self, mesh: &TetMesh, p: Point, start: u32) {
-        let (inside, outside) = self.next_epoch(mesh);
+        self.ensure_marks(mesh);
         self.cavity.clear();
         self.boundary.clear();
         self.stack.clear();
-        self.stamp[start as usize] = inside;
+        self.marks[start as usize] = IN;
         self.stack.push(start);
         self.cavity.push(start);
         while let Some(c) = self.stack.pop() {
@@ -195,17 +197,17 @@ impl Kernel {
             for (i, &a) in adj.iter().enumerate() {
                 let f = FaceRef::from_raw(a);
                 let u = f.tet().0;
-                let s = self.stamp[u as usize];
-                if s == inside {
+                let s = self.marks[u as usize];
+                if s == IN {
                     continue;
                 }
-                if s != outside && in_conflict(mesh, u, p) {
-                    self.stamp[u as usize] = inside;
+                if s != OUT && in_conflict(mesh, u, p) {
+                    self.marks[u as usize] = IN;
                     self.stack.push(u);
                     self.cavity.push(u);
                     continue;
                 }
-                self.stamp[u as usize] = outside;
+                self.marks[u as usize] = OUT;
                 let mut verts = mesh.raw_tet(c);
                 verts[i] = u32::MAX - 2; // placeholder for the new vertex
                 self.boundary.push(BoundaryFace {
@@ -231,8 +233,11 @@ impl Kernel {
             let t = mesh.alloc_tet().ok_or(DelaunayError::TooManyTets)?;
             self.new_tets.push(t);
         }
-        if self.stamp.len() < mesh.num_slots() {
-            self.stamp.resize(mesh.num_slots() * 5 / 4, 0);
+        for &c in &self.cavity {
+            self.marks[c as usize] = 0;
+        }
+        for b in &self.boundary {
+            self.marks[b.outer.tet().index()] = 0;
         }
         for k in 0..nb {
             let b = &mut self.boundary[k];
@@ -240,8 +245,6 @@ impl Kernel {
             let t = self.new_tets[k];
             mesh.set_tet(t, b.verts);
             mesh.link(FaceRef::new(TetId(t), b.slot as usize), b.outer);
-            // A reused slot must not keep the cavity's "inside" stamp.
-            self.stamp[t as usize] = 0;
         }
         self.pair_inner_faces(mesh, v);
         self.last = self.new_tets[0];
@@ -251,23 +254,27 @@ impl Kernel {
     /// Links the new tets to each other: two new tets share a face `(v, x, y)` exactly
     /// when one lists the directed edge `x -> y` after `v` and the other `y -> x`.
     fn pair_inner_faces(&mut self, mesh: &mut TetMesh, v: u32) {
-        let epoch = self.epoch;
-        if self.vstamp.len() < mesh.num_vertices() {
-            let n = mesh.num_vertices() * 5 / 4 + 16;
-            self.vstamp.resize(n, 0);
-            self.vlocal.resize(n, 0);
-        }
+        self.local_keys.fill(u32::MAX);
         let mut next_local = 1usize;
         let mut overflow = false;
         for b in &self.boundary {
             for &x in &b.verts {
-                if x == v || x == GHOST || self.vstamp[x as usize] == epoch {
+                if x == v || x == GHOST {
                     continue;
                 }
-                self.vstamp[x as usize] = epoch;
-                if next_local < LOCAL_IDS {
-                    self.vlocal[x as usize] = next_local as u8;
+                let mut h = local_hash(x);
+                while self.local_keys[h] != u32::MAX && self.local_keys[h] != x {
+                    h = (h + 1) & (LOCAL_TABLE - 1);
                 }
+                if self.local_keys[h] == x {
+                    continue;
+                }
+                if next_local >= LOCAL_IDS {
+                    next_local += 1;
+                    break;
+                }
+                self.local_keys[h] = x;
+                self.local_vals[h] = next_local as u8;
                 next_local += 1;
             }
         }
@@ -276,12 +283,15 @@ impl Kernel {
             self.stats.large_cavities += 1;
             self.big_pairs.clear();
         }
-        let local = |x: u32, vl: &[u8]| -> usize {
+        let local = |x: u32, keys: &[u32], vals: &[u8]| -> usize {
             if x == GHOST {
-                0
-            } else {
-                vl[x as usize] as usize
+                return 0;
             }
+            let mut h = local_hash(x);
+            while keys[h] != x {
+                h = (h + 1) & (LOCAL_TABLE - 1);
+            }
+            vals[h] as usize
         };
         for pass in 0..2 {
             for k in 0..self.boundary.len() {
@@ -303,7 +313,8 @@ impl Kernel {
                         }
                         continue;
                     }
-                    let (lx, ly) = (local(x, &self.vlocal), local(y, &self.vlocal));
+                    let lx = local(x, &self.local_keys, &self.local_vals);
+                    let ly = local(y, &self.local_keys, &self.local_vals);
                     if pass == 0 {
                         self.pairs[lx * LOCAL_IDS + ly] = here.raw();
                     } else {
@@ -335,6 +346,11 @@ impl Inserted {
             Inserted::New(v) | Inserted::Duplicate(v) => v,
         }
     }
+}
+
+#[inline]
+fn local_hash(x: u32) -> usize {
+    (x.wrapping_mul(0x9E37_79B1) >> 24) as usize & (LOCAL_TABLE - 1)
 }
 
 /// The directed edge that follows `v` in the oriented face opposite slot `j`.
