@@ -6,6 +6,8 @@
 //!   radius ratio, edge lengths), allocation-free, plus [`TetMeasures`] in one pass;
 //! - [`length`]: normalised edge length with respect to a size map (§5.3.2) and edge
 //!   quality (§6.1);
+//! - [`target`]: the target quality `Q_t` of a boundary surface (§8): the best `Q_K`
+//!   reachable on its worst face;
 //! - [`histogram`]: the paper's `Q_K` and edge-length bins (§8, Figs. 13-17).
 //!
 //! Conventions: `Q_K` is in `[1, inf)`, bigger is worse, 1 for the regular tet, infinite
@@ -14,6 +16,7 @@
 
 pub mod histogram;
 pub mod length;
+pub mod target;
 pub mod tet;
 
 pub use histogram::{Histogram, LENGTH_BIN_EDGES, QUALITY_BIN_EDGES};
@@ -21,6 +24,7 @@ pub use length::{
     edge_quality, normalized_length, normalized_length_piecewise, normalized_length_points,
     normalized_length_polyline, NEAR_EQUAL_RATIO_HIGH, NEAR_EQUAL_RATIO_LOW,
 };
+pub use target::{face_best_q_k, target_quality, TargetQuality};
 pub use tet::{
     circumradius, dihedral_angles, dihedral_min_max, edge_length_min_max, edge_lengths, inradius,
     max_dihedral, min_dihedral, q_k, radius_ratio, signed_volume, TetMeasures, ALPHA, TET_EDGES,
