@@ -8,6 +8,8 @@
 //!   quality (§6.1);
 //! - [`target`]: the target quality `Q_t` of a boundary surface (§8): the best `Q_K`
 //!   reachable on its worst face;
+//! - [`summary`]: mesh-level statistics (Table 1 columns, `Q_K` and edge-length
+//!   histograms), streaming through [`SummaryBuilder`];
 //! - [`histogram`]: the paper's `Q_K` and edge-length bins (§8, Figs. 13-17).
 //!
 //! Conventions: `Q_K` is in `[1, inf)`, bigger is worse, 1 for the regular tet, infinite
@@ -16,6 +18,7 @@
 
 pub mod histogram;
 pub mod length;
+pub mod summary;
 pub mod target;
 pub mod tet;
 
@@ -23,6 +26,11 @@ pub use histogram::{Histogram, LENGTH_BIN_EDGES, QUALITY_BIN_EDGES};
 pub use length::{
     edge_quality, normalized_length, normalized_length_piecewise, normalized_length_points,
     normalized_length_polyline, NEAR_EQUAL_RATIO_HIGH, NEAR_EQUAL_RATIO_LOW,
+};
+pub use summary::{
+    edge_length_histogram, edge_length_stats, mesh_edge_length_stats, summarize, summarize_tets,
+    surface_edge_length_histogram, unique_tet_edges, unique_triangle_edges, EdgeLengthStats,
+    QualitySummary, SummaryBuilder,
 };
 pub use target::{face_best_q_k, target_quality, TargetQuality};
 pub use tet::{
