@@ -49,7 +49,8 @@ const MAX_RESTARTS: usize = 12;
 /// Best `Q_K` of a tet `(a, b, c, P)` over every apex `P`: the quality of the best tet
 /// that can be built on the face. 1 for an equilateral face, `> 1` otherwise, `inf` for
 /// a degenerate (collinear, coincident or non-finite) face. Invariant to the order of
-/// the vertices, rigid motions and scaling, up to the search tolerance (~1e-9 relative).
+/// the vertices, rigid motions and scaling up to the search accuracy: typically 1e-9
+/// relative, but a stall on an `h_max` ridge can leave ~1e-6 (property-tested at 1e-5).
 pub fn face_best_q_k(a: Point, b: Point, c: Point) -> f64 {
     let Some(local) = local_face(a, b, c) else {
         return f64::INFINITY;
