@@ -83,6 +83,7 @@ pub struct Kernel {
     cavity: Vec<u32>,
     boundary: Vec<BoundaryFace>,
     new_tets: Vec<u32>,
+    locals: Vec<[u8; 4]>,
     pairs: Vec<u32>,
     big_pairs: HashMap<(u32, u32), FaceRef>,
     rng: u64,
@@ -254,11 +255,42 @@ impl Kernel {
     /// Links the new tets to each other: two new tets share a face `(v, x, y)` exactly
     /// when one lists the directed edge `x -> y` after `v` and the other `y -> x`.
     fn pair_inner_faces(&mut self, mesh: &mut TetMesh, v: u32) {
+        if !self.assign_local_ids(v) {
+            self.stats.large_cavities += 1;
+            self.pair_by_map(mesh, v);
+            return;
+        }
+        for pass in 0..2 {
+            for k in 0..self.boundary.len() {
+                let slot = self.boundary[k].slot as usize;
+                let loc = self.locals[k];
+                let t = self.new_tets[k];
+                for j in 0..4 {
+                    if j == slot {
+                        continue;
+                    }
+                    let (pa, pb) = EDGE_AFTER[j][slot];
+                    let (lx, ly) = (loc[pa] as usize, loc[pb] as usize);
+                    if pass == 0 {
+                        self.pairs[lx * LOCAL_IDS + ly] = FaceRef::new(TetId(t), j).raw();
+                    } else {
+                        let other = self.pairs[ly * LOCAL_IDS + lx];
+                        mesh.set_adj(t, j, FaceRef::from_raw(other));
+                    }
+                }
+            }
+        }
+    }
+
+    /// Gives every vertex of the cavity boundary a local id (0 for the ghost) and
+    /// records them per boundary face in `locals`; false when there are too many.
+    fn assign_local_ids(&mut self, v: u32) -> bool {
         self.local_keys.fill(u32::MAX);
-        let mut next_local = 1usize;
-        let mut overflow = false;
+        self.locals.clear();
+        let mut next_local = 1u8;
         for b in &self.boundary {
-            for &x in &b.verts {
+            let mut loc = [0u8; 4];
+            for (s, &x) in b.verts.iter().enumerate() {
                 if x == v || x == GHOST {
                     continue;
                 }
@@ -266,65 +298,41 @@ impl Kernel {
                 while self.local_keys[h] != u32::MAX && self.local_keys[h] != x {
                     h = (h + 1) & (LOCAL_TABLE - 1);
                 }
-                if self.local_keys[h] == x {
+                if self.local_keys[h] != x {
+                    if next_local as usize >= LOCAL_IDS {
+                        return false;
+                    }
+                    self.local_keys[h] = x;
+                    self.local_vals[h] = next_local;
+                    next_local += 1;
+                }
+                loc[s] = self.local_vals[h];
+            }
+            self.locals.push(loc);
+        }
+        true
+    }
+
+    /// The pairing of [`Self::pair_inner_faces`] through a hash map, for cavities with
+    /// more boundary vertices than local ids.
+    fn pair_by_map(&mut self, mesh: &mut TetMesh, v: u32) {
+        self.big_pairs.clear();
+        for k in 0..self.boundary.len() {
+            let b = self.boundary[k];
+            let t = self.new_tets[k];
+            for j in 0..4 {
+                if j == b.slot as usize {
                     continue;
                 }
-                if next_local >= LOCAL_IDS {
-                    next_local += 1;
-                    break;
+                let (pa, pb) = EDGE_AFTER[j][b.slot as usize];
+                let (x, y) = (b.verts[pa], b.verts[pb]);
+                debug_assert!(x != v && y != v);
+                let here = FaceRef::new(TetId(t), j);
+                if let Some(other) = self.big_pairs.remove(&(y, x)) {
+                    mesh.link(here, other);
+                } else {
+                    self.big_pairs.insert((x, y), here);
                 }
-                self.local_keys[h] = x;
-                self.local_vals[h] = next_local as u8;
-                next_local += 1;
-            }
-        }
-        if next_local > LOCAL_IDS {
-            overflow = true;
-            self.stats.large_cavities += 1;
-            self.big_pairs.clear();
-        }
-        let local = |x: u32, keys: &[u32], vals: &[u8]| -> usize {
-            if x == GHOST {
-                return 0;
-            }
-            let mut h = local_hash(x);
-            while keys[h] != x {
-                h = (h + 1) & (LOCAL_TABLE - 1);
-            }
-            vals[h] as usize
-        };
-        for pass in 0..2 {
-            for k in 0..self.boundary.len() {
-                let b = self.boundary[k];
-                let t = self.new_tets[k];
-                for j in 0..4 {
-                    if j == b.slot as usize {
-                        continue;
-                    }
-                    let (x, y) = edge_after(&b.verts, j, v);
-                    let here = FaceRef::new(TetId(t), j);
-                    if overflow {
-                        if pass == 0 {
-                            if let Some(other) = self.big_pairs.remove(&(y, x)) {
-                                mesh.link(here, other);
-                            } else {
-                                self.big_pairs.insert((x, y), here);
-                            }
-                        }
-                        continue;
-                    }
-                    let lx = local(x, &self.local_keys, &self.local_vals);
-                    let ly = local(y, &self.local_keys, &self.local_vals);
-                    if pass == 0 {
-                        self.pairs[lx * LOCAL_IDS + ly] = here.raw();
-                    } else {
-                        let other = self.pairs[ly * LOCAL_IDS + lx];
-                        mesh.set_adj(t, j, FaceRef::from_raw(other));
-                    }
-                }
-            }
-            if overflow {
-                break;
             }
         }
     }
@@ -353,18 +361,21 @@ fn local_hash(x: u32) -> usize {
     (x.wrapping_mul(0x9E37_79B1) >> 24) as usize & (LOCAL_TABLE - 1)
 }
 
-/// The directed edge that follows `v` in the oriented face opposite slot `j`.
-#[inline]
-fn edge_after(verts: &[u32; 4], j: usize, v: u32) -> (u32, u32) {
-    let f = FACE_VERTICES[j];
-    let a = [verts[f[0]], verts[f[1]], verts[f[2]]];
-    if a[0] == v {
-        (a[1], a[2])
-    } else if a[1] == v {
-        (a[2], a[0])
-    } else {
-        (a[0], a[1])
+/// `EDGE_AFTER[j][s]`: in the oriented face opposite local vertex `j`, the positions of
+/// the directed edge that follows position `s` (`s != j`).
+const EDGE_AFTER: [[(usize, usize); 4]; 4] = edge_after_table();
+
+const fn edge_after_table() -> [[(usize, usize); 4]; 4] {
+    let mut t = [[(0, 0); 4]; 4];
+    let mut j = 0;
+    while j < 4 {
+        let f = FACE_VERTICES[j];
+        t[j][f[0]] = (f[1], f[2]);
+        t[j][f[1]] = (f[2], f[0]);
+        t[j][f[2]] = (f[0], f[1]);
+        j += 1;
     }
+    t
 }
 
 #[inline]

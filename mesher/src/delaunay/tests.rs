@@ -234,3 +234,27 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn huge_cavity_uses_the_map_pairing() {
+    // 200 points on a sphere then its centre: the centre's cavity holds every tet.
+    let mut pts = Vec::new();
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    for i in 0..200 {
+        let z = 1.0 - 2.0 * (i as f64 + 0.5) / 200.0;
+        let r = (1.0 - z * z).sqrt();
+        let t = golden * i as f64;
+        pts.push(Point::new(r * t.cos(), r * t.sin(), z));
+    }
+    pts.push(Point::ZERO);
+    let tr = triangulate(
+        &pts,
+        &DelaunayOptions {
+            order: InsertionOrder::Input,
+            seed: 0,
+        },
+    )
+    .unwrap();
+    check_triangulation(&pts, &tr);
+    assert!(tr.stats.large_cavities >= 1);
+}
