@@ -38,7 +38,9 @@ fn bench_uniform(c: &mut Criterion) {
                 let pts = s.surface.vertices;
                 g.throughput(Throughput::Elements(pts.len() as u64));
                 g.bench_with_input(BenchmarkId::new("surface", &path), &pts, |b, pts| {
-                    b.iter(|| triangulate(pts, &DelaunayOptions::default()).map(|t| t.mesh.num_slots()))
+                    b.iter(|| {
+                        triangulate(pts, &DelaunayOptions::default()).map(|t| t.mesh.num_slots())
+                    })
                 });
             }
             Err(e) => eprintln!("MESHER_BENCH_SURFACE: {e}"),

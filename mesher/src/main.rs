@@ -14,7 +14,11 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 #[derive(Parser)]
-#[command(name = "mesher", version, about = "Tetrahedral mesh generator (Frey, Borouchaki, George 1998)")]
+#[command(
+    name = "mesher",
+    version,
+    about = "Tetrahedral mesh generator (Frey, Borouchaki, George 1998)"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -103,7 +107,13 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 Order::Hilbert => InsertionOrder::Hilbert,
                 Order::Input => InsertionOrder::Input,
             };
-            delaunay(&input, output.as_deref(), stats, validate, DelaunayOptions { order, seed })
+            delaunay(
+                &input,
+                output.as_deref(),
+                stats,
+                validate,
+                DelaunayOptions { order, seed },
+            )
         }
         Command::Check { surface, json } => check(&surface, json),
         Command::Generate {
@@ -113,7 +123,12 @@ fn run(cli: Cli) -> Result<ExitCode> {
         } => {
             let s = match kind {
                 Kind::Sphere => generate::icosphere(level),
-                Kind::Torus => generate::torus(8 * level.max(1) as usize, 4 * level.max(1) as usize, 1.0, 0.35),
+                Kind::Torus => generate::torus(
+                    8 * level.max(1) as usize,
+                    4 * level.max(1) as usize,
+                    1.0,
+                    0.35,
+                ),
                 Kind::Cube => generate::cube(level.max(1) as usize),
             };
             mesher::io::write_surface(&output, &s)
@@ -130,7 +145,9 @@ fn run(cli: Cli) -> Result<ExitCode> {
 }
 
 fn read_points(input: &Path) -> Result<Vec<mesher::Point>> {
-    let is_node = input.extension().is_some_and(|e| e.eq_ignore_ascii_case("node"));
+    let is_node = input
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("node"));
     if is_node {
         Ok(mesher::io::points::read_node_points(input)?)
     } else {
@@ -194,7 +211,11 @@ fn check(path: &Path, json: bool) -> Result<ExitCode> {
     if json {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {
-        println!("{}: {} welded vertices", path.display(), read.welded_vertices);
+        println!(
+            "{}: {} welded vertices",
+            path.display(),
+            read.welded_vertices
+        );
         println!("{report}");
     }
     if report.is_clean() {
@@ -203,4 +224,3 @@ fn check(path: &Path, json: bool) -> Result<ExitCode> {
         Ok(ExitCode::from(1))
     }
 }
-

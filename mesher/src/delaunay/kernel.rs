@@ -133,7 +133,12 @@ impl Kernel {
         'walk: while steps < bound {
             steps += 1;
             let v = mesh.raw_tet(t);
-            let q = [pt(mesh, v[0]), pt(mesh, v[1]), pt(mesh, v[2]), pt(mesh, v[3])];
+            let q = [
+                pt(mesh, v[0]),
+                pt(mesh, v[1]),
+                pt(mesh, v[2]),
+                pt(mesh, v[3]),
+            ];
             let r = self.next_rand() as usize;
             for k in 0..4 {
                 let i = (r + k) & 3;
@@ -397,7 +402,12 @@ fn in_conflict(mesh: &TetMesh, t: u32, p: Point) -> bool {
             }
         }
     } else {
-        let q = [pt(mesh, v[0]), pt(mesh, v[1]), pt(mesh, v[2]), pt(mesh, v[3])];
+        let q = [
+            pt(mesh, v[0]),
+            pt(mesh, v[1]),
+            pt(mesh, v[2]),
+            pt(mesh, v[3]),
+        ];
         insphere_perturbed(q[0], q[1], q[2], q[3], p) == Sphere::Inside
     }
 }
@@ -421,7 +431,12 @@ fn locate_by_scan(mesh: &TetMesh, p: Point) -> Location {
             }
             continue;
         }
-        let q = [pt(mesh, v[0]), pt(mesh, v[1]), pt(mesh, v[2]), pt(mesh, v[3])];
+        let q = [
+            pt(mesh, v[0]),
+            pt(mesh, v[1]),
+            pt(mesh, v[2]),
+            pt(mesh, v[3]),
+        ];
         let inside = (0..4).all(|i| {
             let mut s = q;
             s[i] = p;

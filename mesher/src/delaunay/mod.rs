@@ -210,7 +210,13 @@ pub fn box_mesh(min: Point, max: Point) -> Result<TetMesh, DelaunayError> {
             )
         })
         .collect();
-    let mut tets = [[0, 1, 2, 4], [3, 2, 1, 7], [5, 1, 4, 7], [6, 4, 2, 7], [1, 2, 4, 7]];
+    let mut tets = [
+        [0, 1, 2, 4],
+        [3, 2, 1, 7],
+        [5, 1, 4, 7],
+        [6, 4, 2, 7],
+        [1, 2, 4, 7],
+    ];
     for t in &mut tets {
         let q = |k: usize| corners[t[k] as usize];
         if orient3d(q(0), q(1), q(2), q(3)) == Orientation::Negative {

@@ -89,7 +89,11 @@ fn cubic_grid_cospherical() {
         let pts = grid(n);
         let tr = triangulate(&pts, &DelaunayOptions::default()).unwrap();
         check_triangulation(&pts, &tr);
-        let vol: f64 = tr.mesh.finite_tets().map(|t| tet_volume(tr.mesh.tet_points(t))).sum();
+        let vol: f64 = tr
+            .mesh
+            .finite_tets()
+            .map(|t| tet_volume(tr.mesh.tet_points(t)))
+            .sum();
         let side = (n - 1) as f64;
         assert!((vol - side * side * side).abs() < 1e-9);
     }
@@ -138,7 +142,12 @@ fn degenerate_inputs_are_errors() {
         vec![],
         vec![p(0.0, 0.0, 0.0); 5],
         vec![p(0.0, 0.0, 0.0), p(1.0, 1.0, 1.0), p(2.0, 2.0, 2.0)],
-        vec![p(0.0, 0.0, 0.0), p(1.0, 0.0, 0.0), p(0.0, 1.0, 0.0), p(1.0, 1.0, 0.0)],
+        vec![
+            p(0.0, 0.0, 0.0),
+            p(1.0, 0.0, 0.0),
+            p(0.0, 1.0, 0.0),
+            p(1.0, 1.0, 0.0),
+        ],
     ];
     for c in cases {
         assert!(matches!(

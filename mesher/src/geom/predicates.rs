@@ -77,19 +77,27 @@ fn c3(p: DVec3) -> Coord3D<f64> {
     }
 }
 
-/// Static filter constant for the 3x3 orientation determinant computed from
-/// differences (Shewchuk's `o3derrboundA` is 7.77e-16 relative to the permanent; this
-/// bound is on the permanent itself, so it is safe for any magnitude).
-const O3D_ERR: f64 = 7.771_561_172_376_103e-16;
-/// Shewchuk's `isperrboundA`.
-const ISP_ERR: f64 = 1.776_356_839_400_253e-15;
+/// Semi-static filter of [`orient3d`]: with `M_k` the largest absolute coordinate
+/// difference (to `a`) along axis `k`, the rounding error of the determinant evaluated
+/// below is at most `O3D_SEMI * M_x * M_y * M_z`. Derived from Shewchuk's bound
+/// `o3derrboundA = 7 eps` times the permanent, which is at most `6 M_x M_y M_z`
+/// (4.66e-15), rounded up; CGAL's filter uses 5.11e-15 for the same determinant.
+const O3D_SEMI: f64 = 5.2e-15;
+/// Semi-static filter of [`insphere`]: the error is at most `ISP_SEMI * M_x * M_y * M_z *
+/// M_max^2`, from `isperrboundA = 16 eps` times the permanent, which is at most `72 M_x
+/// M_y M_z M_max^2` (1.279e-13), rounded up.
+const ISP_SEMI: f64 = 1.3e-13;
+/// Outside `[FILTER_MIN, FILTER_MAX]` the products of the bounds may underflow or
+/// overflow: go straight to the exact evaluation.
+const FILTER_MIN: f64 = 1e-58;
+const FILTER_MAX: f64 = 1e58;
 
 /// Orientation of the tetrahedron `(a, b, c, d)`: the sign of `det[b-a, c-a, d-a]`,
 /// exact.
 #[inline]
 pub fn orient3d(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> Orientation {
-    // Fast path: the determinant of the differences to `a`, with Shewchuk's error bound
-    // applied to its permanent. Falls back to the adaptive exact evaluation.
+    // Fast path: the determinant of the differences to `a`, with a semi-static error
+    // bound. Falls back to the adaptive exact evaluation.
     let ba = b - a;
     let ca = c - a;
     let da = d - a;
@@ -97,15 +105,19 @@ pub fn orient3d(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> Orientation {
     let m2 = ca.z * da.x - ca.x * da.z;
     let m3 = ca.x * da.y - ca.y * da.x;
     let det = ba.x * m1 + ba.y * m2 + ba.z * m3;
-    let perm = ba.x.abs() * ((ca.y * da.z).abs() + (ca.z * da.y).abs())
-        + ba.y.abs() * ((ca.z * da.x).abs() + (ca.x * da.z).abs())
-        + ba.z.abs() * ((ca.x * da.y).abs() + (ca.y * da.x).abs());
-    let bound = O3D_ERR * perm;
-    if det > bound {
-        return Orientation::Positive;
-    }
-    if -det > bound {
-        return Orientation::Negative;
+    let mx = ba.x.abs().max(ca.x.abs()).max(da.x.abs());
+    let my = ba.y.abs().max(ca.y.abs()).max(da.y.abs());
+    let mz = ba.z.abs().max(ca.z.abs()).max(da.z.abs());
+    let lo = mx.min(my).min(mz);
+    let hi = mx.max(my).max(mz);
+    if lo > FILTER_MIN && hi < FILTER_MAX {
+        let bound = O3D_SEMI * mx * my * mz;
+        if det > bound {
+            return Orientation::Positive;
+        }
+        if -det > bound {
+            return Orientation::Negative;
+        }
     }
     orient3d_exact(a, b, c, d)
 }
@@ -154,21 +166,15 @@ pub fn insphere(a: DVec3, b: DVec3, c: DVec3, d: DVec3, e: DVec3) -> Sphere {
     let dlift = de.length_squared();
     let det = (dlift * abc - clift * dab) + (blift * cda - alift * bcd);
 
-    let aezp = ae.z.abs();
-    let bezp = be.z.abs();
-    let cezp = ce.z.abs();
-    let dezp = de.z.abs();
-    let abp = (ae.x * be.y).abs() + (be.x * ae.y).abs();
-    let bcp = (be.x * ce.y).abs() + (ce.x * be.y).abs();
-    let cdp = (ce.x * de.y).abs() + (de.x * ce.y).abs();
-    let dap = (de.x * ae.y).abs() + (ae.x * de.y).abs();
-    let acp = (ae.x * ce.y).abs() + (ce.x * ae.y).abs();
-    let bdp = (be.x * de.y).abs() + (de.x * be.y).abs();
-    let perm = ((cdp * bezp + bdp * cezp + bcp * dezp) * alift)
-        + ((dap * cezp + acp * dezp + cdp * aezp) * blift)
-        + ((abp * dezp + bdp * aezp + dap * bezp) * clift)
-        + ((bcp * aezp + acp * bezp + abp * cezp) * dlift);
-    let bound = ISP_ERR * perm;
+    let mx = ae.x.abs().max(be.x.abs()).max(ce.x.abs()).max(de.x.abs());
+    let my = ae.y.abs().max(be.y.abs()).max(ce.y.abs()).max(de.y.abs());
+    let mz = ae.z.abs().max(be.z.abs()).max(ce.z.abs()).max(de.z.abs());
+    let lo = mx.min(my).min(mz);
+    let hi = mx.max(my).max(mz);
+    if !(lo > FILTER_MIN && hi < FILTER_MAX) {
+        return insphere_exact(a, b, c, d, e);
+    }
+    let bound = ISP_SEMI * mx * my * mz * hi * hi;
     // Shewchuk's determinant is positive for "inside" when (a,b,c,d) is positive in his
     // convention, i.e. negative in ours.
     if det > bound {
@@ -307,6 +313,45 @@ mod tests {
         for i in 0..200 {
             let d = v(0.2, 0.2, 0.1 + (i as f64 - 100.0) * 1e-17);
             assert_eq!(orient3d(a, b, c, d), orient3d_exact(a, b, c, d));
+        }
+    }
+
+    use proptest::prelude::*;
+
+    fn near(base: f64) -> impl Strategy<Value = f64> {
+        prop_oneof![
+            Just(base),
+            (-1000i64..1000)
+                .prop_map(move |k| base + k as f64 * f64::EPSILON * base.abs().max(1.0)),
+            (-1.0f64..1.0).prop_map(move |t| base + t * 1e-12),
+        ]
+    }
+
+    fn pt_near(x: f64, y: f64, z: f64) -> impl Strategy<Value = DVec3> {
+        (near(x), near(y), near(z)).prop_map(|(x, y, z)| DVec3::new(x, y, z))
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2000))]
+        /// The filters never disagree with the exact predicates, on nearly coplanar and
+        /// nearly cospherical inputs at several scales.
+        #[test]
+        fn filters_agree_with_exact(
+            a in pt_near(0.0, 0.0, 0.0),
+            b in pt_near(1.0, 0.0, 0.0),
+            c in pt_near(0.0, 1.0, 0.0),
+            d in pt_near(1.0, 1.0, 0.0),
+            e in pt_near(1.0, 1.0, 1.0),
+            z in pt_near(0.0, 0.0, 1.0),
+            scale in prop_oneof![Just(1.0), Just(1e-9), Just(3.7e6), Just(1e-40)],
+            shift in prop_oneof![Just(0.0), Just(1e3), Just(-12.5)],
+        ) {
+            let f = |p: DVec3| p * scale + DVec3::splat(shift * scale);
+            let (a, b, c, d, e, z) = (f(a), f(b), f(c), f(d), f(e), f(z));
+            prop_assert_eq!(orient3d(a, b, c, d), orient3d_exact(a, b, c, d));
+            prop_assert_eq!(orient3d(a, b, c, z), orient3d_exact(a, b, c, z));
+            prop_assert_eq!(insphere(a, b, c, z, e), insphere_exact(a, b, c, z, e));
+            prop_assert_eq!(insphere(a, b, c, z, d), insphere_exact(a, b, c, z, d));
         }
     }
 }

@@ -46,10 +46,12 @@ pub fn parse_node_points(text: &str, name: &str) -> Result<Vec<Point>, PointsErr
         .next()
         .ok_or_else(|| err(0, "empty file, expected a header line".into()))?;
     let h: Vec<&str> = header.split_whitespace().collect();
-    let count: usize = h
-        .first()
-        .and_then(|s| s.parse().ok())
-        .ok_or_else(|| err(hl, format!("expected the number of points, found {header:?}")))?;
+    let count: usize = h.first().and_then(|s| s.parse().ok()).ok_or_else(|| {
+        err(
+            hl,
+            format!("expected the number of points, found {header:?}"),
+        )
+    })?;
     if let Some(dim) = h.get(1) {
         if *dim != "3" {
             return Err(err(hl, format!("dimension must be 3, found {dim}")));
@@ -61,7 +63,10 @@ pub fn parse_node_points(text: &str, name: &str) -> Result<Vec<Point>, PointsErr
         let mut c = [0.0f64; 3];
         for (k, slot) in c.iter_mut().enumerate() {
             let tok = f.next().ok_or_else(|| {
-                err(ln, format!("expected index and 3 coordinates, found {} values", k + 1))
+                err(
+                    ln,
+                    format!("expected index and 3 coordinates, found {} values", k + 1),
+                )
             })?;
             *slot = tok
                 .parse()

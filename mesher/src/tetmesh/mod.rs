@@ -177,7 +177,12 @@ impl TetMesh {
     #[inline]
     pub fn tet(&self, t: TetId) -> [VertexId; 4] {
         let v = self.cells[t.index()].v;
-        [VertexId(v[0]), VertexId(v[1]), VertexId(v[2]), VertexId(v[3])]
+        [
+            VertexId(v[0]),
+            VertexId(v[1]),
+            VertexId(v[2]),
+            VertexId(v[3]),
+        ]
     }
 
     /// The tet across the face opposite vertex `i` of `t`, seen from that tet.
