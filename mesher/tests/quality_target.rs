@@ -115,6 +115,25 @@ fn target_is_the_worst_face() {
     assert_eq!(back, t);
 }
 
+#[test]
+fn fast_solver_matches_the_precise_one_on_a_grid_of_faces() {
+    use mesher::quality::target::face_best_q_k_precise;
+    let (a, b) = (p(0.0, 0.0), p(1.0, 0.0));
+    for i in 0..=40 {
+        for j in 0..=20 {
+            // c over [-1, 2] x (0, 2], denser near the base (caps, needles).
+            let c = p(
+                -1.0 + 3.0 * i as f64 / 40.0,
+                2.0 * (j as f64 / 20.0).powi(3) + 1e-4,
+            );
+            let (fast, precise) = (face_best_q_k(a, b, c), face_best_q_k_precise(a, b, c));
+            let rel = (fast - precise) / precise;
+            // Never worse than the precise search; better only where it stalled.
+            assert!(rel <= 1e-9 && rel.abs() <= 1e-4, "{c}: {fast} {precise}");
+        }
+    }
+}
+
 /// A 300k-triangle surface: the two sides of a perturbed triangulated grid.
 #[test]
 #[ignore = "timing; run with --ignored --nocapture"]
