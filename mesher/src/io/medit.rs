@@ -172,6 +172,23 @@ pub fn write_mesh<W: Write>(w: &mut W, m: &VolumeMesh) -> std::io::Result<()> {
     writeln!(w, "\nEnd")
 }
 
+/// Writes a surface as Medit `.mesh` (vertices and triangles, references 0).
+pub fn write_surface<W: Write>(w: &mut W, s: &Surface) -> std::io::Result<()> {
+    writeln!(
+        w,
+        "MeshVersionFormatted 2\n\nDimension 3\n\nVertices\n{}",
+        s.vertices.len()
+    )?;
+    for p in &s.vertices {
+        writeln!(w, "{:?} {:?} {:?} 0", p.x, p.y, p.z)?;
+    }
+    writeln!(w, "\nTriangles\n{}", s.triangles.len())?;
+    for t in &s.triangles {
+        writeln!(w, "{} {} {} 0", t[0] + 1, t[1] + 1, t[2] + 1)?;
+    }
+    writeln!(w, "\nEnd")
+}
+
 /// Writes one scalar per vertex as a Medit `.sol`.
 pub fn write_sol<W: Write>(w: &mut W, values: &[f64]) -> std::io::Result<()> {
     writeln!(

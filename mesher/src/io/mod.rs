@@ -1,7 +1,7 @@
 //! File formats: surface readers and volume-mesh writers and readers. All file IO of the
 //! library lives here.
 //!
-//! * Surfaces ([`read_surface`]): Wavefront `.obj` (via `tobj`), `.off`, `.stl` (ASCII
+//! * Surfaces ([`read_surface`], [`write_surface`]): Wavefront `.obj` (via `tobj`), `.off`, `.stl` (ASCII
 //!   and binary), Medit `.mesh`. Exactly coincident vertices are welded and unused
 //!   vertices dropped; [`SurfaceRead`] reports how many.
 //! * Volume meshes ([`write_volume`], [`read_volume`]): Medit `.mesh` (+ `.sol` sizes),
@@ -84,11 +84,7 @@ pub(crate) fn read_bytes(path: &Path) -> Result<Vec<u8>, IoError> {
 /// Reads a surface, choosing the format from the extension (`.obj`, `.off`, `.stl`,
 /// `.mesh`), welds exactly coincident vertices and drops unused ones.
 pub fn read_surface(path: &Path) -> Result<SurfaceRead, IoError> {
-    let format = SurfaceFormat::from_path(path).ok_or_else(|| IoError::UnknownFormat {
-        path: path.to_path_buf(),
-        kind: "surface",
-        supported: ".obj .off .stl .mesh",
-    })?;
+    let format = surface_format(path)?;
     let bytes = read_bytes(path)?;
     parse_surface(&path.display().to_string(), &bytes, format)
 }
@@ -99,7 +95,24 @@ pub fn parse_surface(
     bytes: &[u8],
     format: SurfaceFormat,
 ) -> Result<SurfaceRead, IoError> {
-    let raw = match format {
+    Ok(weld(parse_surface_unwelded(name, bytes, format)?))
+}
+
+/// Reads a surface as the file has it: no welding, unused vertices kept (e.g. to read
+/// the points of a point cloud stored as `.off`/`.obj` without faces).
+pub fn read_surface_unwelded(path: &Path) -> Result<Surface, IoError> {
+    let format = surface_format(path)?;
+    let bytes = read_bytes(path)?;
+    parse_surface_unwelded(&path.display().to_string(), &bytes, format)
+}
+
+/// Parses a surface held in memory without welding; `name` is used in error messages.
+pub fn parse_surface_unwelded(
+    name: &str,
+    bytes: &[u8],
+    format: SurfaceFormat,
+) -> Result<Surface, IoError> {
+    Ok(match format {
         SurfaceFormat::Stl => stl::parse(name, bytes)?,
         _ => {
             let text = String::from_utf8_lossy(bytes);
@@ -109,8 +122,27 @@ pub fn parse_surface(
                 _ => medit::parse_surface(name, &text)?,
             }
         }
-    };
-    Ok(weld(raw))
+    })
+}
+
+/// The surface format of `path`, or an error listing the supported extensions.
+fn surface_format(path: &Path) -> Result<SurfaceFormat, IoError> {
+    SurfaceFormat::from_path(path).ok_or_else(|| IoError::UnknownFormat {
+        path: path.to_path_buf(),
+        kind: "surface",
+        supported: ".obj .off .stl .mesh",
+    })
+}
+
+/// Writes a surface, choosing the format from the extension: `.off`, `.obj`, `.stl`
+/// (ASCII, full precision) or `.mesh` (Medit).
+pub fn write_surface(path: &Path, surface: &Surface) -> Result<(), IoError> {
+    match surface_format(path)? {
+        SurfaceFormat::Off => write_with(path, |w| off::write(w, surface)),
+        SurfaceFormat::Obj => write_with(path, |w| obj::write(w, surface)),
+        SurfaceFormat::Stl => write_with(path, |w| stl::write_ascii(w, surface)),
+        SurfaceFormat::Medit => write_with(path, |w| medit::write_surface(w, surface)),
+    }
 }
 
 /// Merges vertices with bitwise-equal coordinates (-0.0 counted as 0.0), then removes

@@ -95,6 +95,17 @@ fn check_face(l: &mut Tokens, seen: usize, total: usize) -> Result<(), IoError> 
     Ok(())
 }
 
+/// Writes a surface as OBJ (`v` and `f` lines, 1-based).
+pub fn write<W: std::io::Write>(w: &mut W, s: &Surface) -> std::io::Result<()> {
+    for p in &s.vertices {
+        writeln!(w, "v {:?} {:?} {:?}", p.x, p.y, p.z)?;
+    }
+    for t in &s.triangles {
+        writeln!(w, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1)?;
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

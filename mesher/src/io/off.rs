@@ -78,6 +78,18 @@ fn read_face(l: &mut Tokens, nv: usize, out: &mut Vec<[u32; 3]>) -> Result<(), I
     Ok(())
 }
 
+/// Writes a surface as OFF (shortest round-trip coordinates).
+pub fn write<W: std::io::Write>(w: &mut W, s: &Surface) -> std::io::Result<()> {
+    writeln!(w, "OFF\n{} {} 0", s.vertices.len(), s.triangles.len())?;
+    for p in &s.vertices {
+        writeln!(w, "{:?} {:?} {:?}", p.x, p.y, p.z)?;
+    }
+    for t in &s.triangles {
+        writeln!(w, "3 {} {} {}", t[0], t[1], t[2])?;
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -109,6 +109,22 @@ fn parse_ascii(name: &str, text: &str) -> Result<Surface, IoError> {
     Ok(s)
 }
 
+/// Writes a surface as ASCII STL with full-precision coordinates (binary STL would round
+/// them to `f32`); normals are computed, zero for degenerate triangles.
+pub fn write_ascii<W: std::io::Write>(w: &mut W, s: &Surface) -> std::io::Result<()> {
+    writeln!(w, "solid mesher")?;
+    for t in &s.triangles {
+        let p = t.map(|i| s.vertices.get(i as usize).copied().unwrap_or(Point::ZERO));
+        let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+        writeln!(w, "facet normal {:?} {:?} {:?}\nouter loop", n.x, n.y, n.z)?;
+        for q in p {
+            writeln!(w, "vertex {:?} {:?} {:?}", q.x, q.y, q.z)?;
+        }
+        writeln!(w, "endloop\nendfacet")?;
+    }
+    writeln!(w, "endsolid mesher")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
