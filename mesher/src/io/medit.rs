@@ -92,9 +92,10 @@ fn read_elements<const K: usize>(
     let n = t.count(&format!("number of {what}s"))?;
     elems.reserve(n.min(MAX_PREALLOC));
     refs.reserve(n.min(MAX_PREALLOC));
+    let ref_what = format!("{what} reference");
     for _ in 0..n {
         elems.push(t.indices::<K>(what, 1, nv)?);
-        refs.push(t.i32(&format!("{what} reference"))?);
+        refs.push(t.i32(&ref_what)?);
     }
     Ok(())
 }
