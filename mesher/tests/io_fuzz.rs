@@ -64,8 +64,22 @@ const SAMPLES: [&str; 11] = [OFF, OBJ, STL, MESH, SOL, MSH41, MSH22, VTU, VTK, N
 
 /// Tokens that make damaged files interesting.
 const VOCAB: [&str; 16] = [
-    "0", "1", "-1", "3", "4", "99999999999", "nan", "1e308", "-0", "$EndNodes", "End",
-    "Vertices", "\n", "#", "<DataArray format=\"ascii\">", "</DataArray>",
+    "0",
+    "1",
+    "-1",
+    "3",
+    "4",
+    "99999999999",
+    "nan",
+    "1e308",
+    "-0",
+    "$EndNodes",
+    "End",
+    "Vertices",
+    "\n",
+    "#",
+    "<DataArray format=\"ascii\">",
+    "</DataArray>",
 ];
 
 /// `sample` with a few tokens replaced, deleted or inserted.

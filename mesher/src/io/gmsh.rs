@@ -26,7 +26,7 @@ pub fn parse(name: &str, text: &str) -> Result<VolumeMesh, IoError> {
     let mut r = Reader {
         lines: Lines::new(name, text, None),
         v4: None,
-        nodes: HashMap::new(),
+        nodes: NodeMap::default(),
         entity_phys: HashMap::new(),
         mesh: VolumeMesh::default(),
     };
@@ -56,13 +56,58 @@ pub fn parse(name: &str, text: &str) -> Result<VolumeMesh, IoError> {
     Ok(r.mesh)
 }
 
+/// Node tags to vertex indices: a dense table for the usual small tags, a hash map for
+/// the others.
+#[derive(Default)]
+struct NodeMap {
+    dense: Vec<u32>,
+    sparse: HashMap<u64, u32>,
+    len: usize,
+}
+
+impl NodeMap {
+    /// Tags below this go to the dense table.
+    const DENSE_LIMIT: u64 = 1 << 26;
+
+    /// Maps `tag` to `index`; false when `tag` was already mapped.
+    fn insert(&mut self, tag: u64, index: u32) -> bool {
+        if self.get(tag).is_some() {
+            return false;
+        }
+        if tag < Self::DENSE_LIMIT && tag as usize <= 4 * self.len + 1024 {
+            let t = tag as usize;
+            if t >= self.dense.len() {
+                self.dense.resize(t + 1, u32::MAX);
+            }
+            self.dense[t] = index;
+        } else {
+            self.sparse.insert(tag, index);
+        }
+        self.len += 1;
+        true
+    }
+
+    /// The index of `tag`.
+    fn get(&self, tag: u64) -> Option<u32> {
+        match usize::try_from(tag).ok().and_then(|t| self.dense.get(t)) {
+            Some(&i) if i != u32::MAX => Some(i),
+            _ => self.sparse.get(&tag).copied(),
+        }
+    }
+
+    /// Number of nodes.
+    fn len(&self) -> usize {
+        self.len
+    }
+}
+
 /// Parsing state.
 struct Reader<'a> {
     lines: Lines<'a>,
     /// `Some(true)` for 4.1, `Some(false)` for 2.x, once `$MeshFormat` is read.
     v4: Option<bool>,
     /// Node tag to 0-based vertex index.
-    nodes: HashMap<u64, u32>,
+    nodes: NodeMap,
     /// (dimension, entity tag) to first physical tag.
     entity_phys: HashMap<(i64, i64), i32>,
     mesh: VolumeMesh,
@@ -147,7 +192,7 @@ impl<'a> Reader<'a> {
     fn add_node(&mut self, l: &Tokens, tag: i64, p: Point) -> Result<(), IoError> {
         let index = self.mesh.vertices.len() as u32;
         let key = u64::try_from(tag).map_err(|_| l.error(format!("invalid node tag {tag}")))?;
-        if self.nodes.insert(key, index).is_some() {
+        if !self.nodes.insert(key, index) {
             return Err(l.error(format!("node {tag} defined twice")));
         }
         self.mesh.vertices.push(p);
@@ -204,7 +249,7 @@ impl<'a> Reader<'a> {
             let tag = l.i64("node tag")?;
             *slot = u64::try_from(tag)
                 .ok()
-                .and_then(|t| self.nodes.get(&t).copied())
+                .and_then(|t| self.nodes.get(t))
                 .ok_or_else(|| {
                     l.error(format!(
                         "element refers to node {tag} but it is not among the {} nodes",

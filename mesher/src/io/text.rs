@@ -94,6 +94,33 @@ impl<'a> Tokens<'a> {
         }
     }
 
+    /// All remaining tokens as integers.
+    pub(crate) fn rest_i64(&mut self, what: &str) -> Result<Vec<i64>, IoError> {
+        let mut out = Vec::new();
+        while let Some(t) = self.next_token() {
+            let v = t
+                .parse::<i64>()
+                .map_err(|_| self.error(format!("expected {what} (an integer), found '{t}'")))?;
+            out.push(v);
+        }
+        Ok(out)
+    }
+
+    /// All remaining tokens as finite floats.
+    pub(crate) fn rest_f64(&mut self, what: &str) -> Result<Vec<f64>, IoError> {
+        let mut out = Vec::new();
+        while let Some(t) = self.next_token() {
+            match t.parse::<f64>() {
+                Ok(v) if v.is_finite() => out.push(v),
+                Ok(_) => return Err(self.error(format!("{what} '{t}' is not finite"))),
+                Err(_) => {
+                    return Err(self.error(format!("expected {what} (a number), found '{t}'")))
+                }
+            }
+        }
+        Ok(out)
+    }
+
     /// The next token parsed as a finite float.
     pub(crate) fn f64(&mut self, what: &str) -> Result<f64, IoError> {
         let t = self.expect(what)?;

@@ -375,35 +375,30 @@ fn take_array(
     cells: &mut Cells,
 ) -> Result<(), IoError> {
     let mut t = Tokens::starting_at(file, content, line, None, "DataArray");
-    let all = |t: &mut Tokens, what: &str| -> Result<Vec<i64>, IoError> {
-        let mut v = Vec::new();
-        while t.peek().is_some() {
-            v.push(t.i64(what)?);
-        }
-        Ok(v)
-    };
     match (section, info.name.as_str()) {
         (Section::Points, _) => {
             if info.components != 3 {
-                return Err(t.error(format!(
-                    "points have {} components, expected 3",
-                    info.components
-                )));
+                let msg = format!("points have {} components, expected 3", info.components);
+                return Err(t.error(msg));
             }
-            while t.peek().is_some() {
-                cells.points.push(t.point()?);
+            let c = t.rest_f64("coordinate")?;
+            if c.len() % 3 != 0 {
+                let msg = format!("{} point coordinates, not a multiple of 3", c.len());
+                return Err(IoError::parse(file, line, msg));
             }
+            let pts = c.chunks_exact(3).map(|p| Point::new(p[0], p[1], p[2]));
+            cells.points.extend(pts);
         }
-        (Section::Cells, "connectivity") => cells.connectivity = all(&mut t, "point index")?,
-        (Section::Cells, "offsets") => cells.offsets = all(&mut t, "cell offset")?,
-        (Section::Cells, "types") => cells.types = all(&mut t, "cell type")?,
+        (Section::Cells, "connectivity") => cells.connectivity = t.rest_i64("point index")?,
+        (Section::Cells, "offsets") => cells.offsets = t.rest_i64("cell offset")?,
+        (Section::Cells, "types") => cells.types = t.rest_i64("cell type")?,
         (Section::CellData, n) if REF_NAMES.contains(&n) && info.components == 1 => {
-            let mut v = Vec::new();
-            while t.peek().is_some() {
-                let x = t.f64("cell reference")?;
-                v.push(to_ref(&t, x)?);
-            }
-            cells.offer_refs(n, v);
+            let v = t.rest_f64("cell reference")?;
+            let refs = v
+                .into_iter()
+                .map(|x| to_ref(&t, x))
+                .collect::<Result<_, _>>()?;
+            cells.offer_refs(n, refs);
         }
         _ => {}
     }
