@@ -54,6 +54,7 @@ fn all_readers(text: &str, bytes: &[u8]) {
     check(medit::parse_mesh("f", text).map(|_| ()));
     check(medit::parse_sol("f", text, 2).map(|_| ()));
     check(gmsh::parse("f", text).map(|_| ()));
+    check(gmsh::parse_bytes("f", bytes).map(|_| ()));
     check(vtk::parse_vtu("f", text).map(|_| ()));
     check(vtk::parse_legacy("f", text).map(|_| ()));
     check(tetgen::parse(("f", text), ("f", ELE), Some(("f", FACE))).map(|_| ()));
@@ -131,6 +132,16 @@ proptest! {
         all_readers(&text, text.as_bytes());
         let cut = text.char_indices().map(|(i, _)| i).find(|&i| i >= cut).unwrap_or(text.len());
         all_readers(&text[..cut], &text.as_bytes()[..cut]);
+    }
+
+    #[test]
+    fn binary_gmsh_never_panics(body in proptest::collection::vec(any::<u8>(), 0..300)) {
+        let mut b = b"$MeshFormat\n2.2 1 8\n\x01\x00\x00\x00\n$EndMeshFormat\n$Nodes\n2\n".to_vec();
+        b.extend_from_slice(&body);
+        let _ = gmsh::parse_bytes("f", &b);
+        b.extend_from_slice(b"\n$EndNodes\n$Elements\n1\n");
+        b.extend_from_slice(&body);
+        let _ = gmsh::parse_bytes("f", &b);
     }
 
     #[test]

@@ -38,6 +38,7 @@ else:
     for name, fmt, kw in [
         ("mio.mesh", "medit", {}),
         ("mio22.msh", "gmsh22", {"binary": False}),
+        ("mio22b.msh", "gmsh22", {"binary": True}),
         ("mio.vtu", "vtu", {"binary": False}),
         ("mio.node", "tetgen", {}),
     ]:
@@ -144,6 +145,7 @@ fn we_read_what_meshio_writes() {
     for file in [
         "mio.mesh",
         "mio22.msh",
+        "mio22b.msh",
         "mio41.msh",
         "mio.vtu",
         "mio4.vtk",

@@ -9,7 +9,8 @@
 //! The reader keeps tets (type 4) and triangles (type 2) and skips other element types
 //! and unknown sections. A reference is the element's physical tag (2.2: first tag; 4.1:
 //! first physical tag of its entity), else its elementary (entity) tag. Node tags may be
-//! sparse. Binary files and format 4.0 are refused.
+//! sparse. Binary 2.2 files are read by `gmsh_binary` (through [`parse_bytes`]); binary
+//! 4.1 and format 4.0 are refused.
 
 use super::error::IoError;
 use super::text::{Lines, Tokens};
@@ -21,7 +22,21 @@ use std::io::Write;
 /// Caps pre-allocation from counts read in a file.
 const MAX_PREALLOC: usize = 1 << 22;
 
-/// Parses a Gmsh mesh.
+/// Parses a Gmsh file held in memory: binary 2.2 (as fTetWild writes by default), or
+/// ASCII 2.2 / 4.1.
+pub fn parse_bytes(name: &str, bytes: &[u8]) -> Result<VolumeMesh, IoError> {
+    let head = String::from_utf8_lossy(bytes.get(..64).unwrap_or(bytes));
+    let mut lines = head.lines().map(str::trim).filter(|l| !l.is_empty());
+    if lines.next() == Some("$MeshFormat") {
+        let f: Vec<&str> = lines.next().unwrap_or("").split_whitespace().collect();
+        if f.len() >= 2 && f[0].starts_with("2.") && f[1] == "1" {
+            return super::gmsh_binary::parse(name, bytes);
+        }
+    }
+    parse(name, &String::from_utf8_lossy(bytes))
+}
+
+/// Parses an ASCII Gmsh mesh.
 pub fn parse(name: &str, text: &str) -> Result<VolumeMesh, IoError> {
     let mut r = Reader {
         lines: Lines::new(name, text, None),
@@ -120,10 +135,8 @@ impl<'a> Reader<'a> {
         let version = l.expect("format version")?;
         let file_type = l.i64("file type")?;
         if file_type != 0 {
-            return Err(IoError::unsupported(
-                l.file(),
-                "binary .msh (only ASCII is read)",
-            ));
+            let msg = "binary .msh other than 2.2 (ASCII 2.2/4.1 and binary 2.2 are read)";
+            return Err(IoError::unsupported(l.file(), msg));
         }
         self.v4 = match version {
             "4.1" => Some(true),

@@ -6,7 +6,7 @@
 //!   vertices dropped; [`SurfaceRead`] reports how many.
 //! * Volume meshes ([`write_volume`], [`read_volume`]): Medit `.mesh` (+ `.sol` sizes),
 //!   VTK `.vtu` (XML, ASCII; legacy `.vtk` ASCII read only), Gmsh `.msh` (4.1 written;
-//!   2.2 and 4.1 ASCII read), TetGen `.node`/`.ele`/`.face`.
+//!   2.2 and 4.1 ASCII and 2.2 binary read), TetGen `.node`/`.ele`/`.face`.
 //!
 //! Every reader also exists as a `parse` function over text or bytes with a file name for
 //! messages, so nothing needs a file system. Readers never panic: malformed input gives an
@@ -14,6 +14,7 @@
 
 mod error;
 pub mod gmsh;
+mod gmsh_binary;
 pub mod medit;
 pub mod obj;
 pub mod off;
@@ -264,10 +265,7 @@ pub fn read_volume(path: &Path) -> Result<VolumeMesh, IoError> {
         }
         Some(VolumeFormat::Gmsh) => {
             let bytes = read_bytes(path)?;
-            gmsh::parse(
-                &path.display().to_string(),
-                &String::from_utf8_lossy(&bytes),
-            )
+            gmsh::parse_bytes(&path.display().to_string(), &bytes)
         }
         Some(VolumeFormat::TetGen) => tetgen::read_files(path),
         None => Err(IoError::UnknownFormat {
