@@ -17,7 +17,8 @@ pub fn parse(name: &str, bytes: &[u8]) -> Result<Surface, IoError> {
         return parse_binary(name, bytes, n);
     }
     let text = String::from_utf8_lossy(bytes);
-    if !text.trim_start().starts_with("solid") {
+    let start = text.trim_start().get(..5).unwrap_or("");
+    if !start.eq_ignore_ascii_case("solid") {
         let expected = match bytes.get(80..84) {
             Some(b) => format!(
                 "84 + 50 * {} bytes",
@@ -80,8 +81,8 @@ fn parse_ascii(name: &str, text: &str) -> Result<Surface, IoError> {
     let mut lines = Lines::new(name, text, None);
     let mut in_loop: Option<usize> = None; // vertices seen in the current loop
     while let Some(mut l) = lines.next_line() {
-        let key = l.next_token().unwrap_or("");
-        match (key, in_loop) {
+        let key = l.next_token().unwrap_or("").to_ascii_lowercase();
+        match (key.as_str(), in_loop) {
             ("vertex", Some(k)) => {
                 s.vertices.push(l.point()?);
                 in_loop = Some(k + 1);
@@ -137,6 +138,8 @@ mod tests {
         let s = parse("t.stl", TRI.as_bytes()).unwrap();
         assert_eq!(s.vertices.len(), 3);
         assert_eq!(s.triangles, vec![[0, 1, 2]]);
+        let upper = parse("t.stl", TRI.to_ascii_uppercase().as_bytes()).unwrap();
+        assert_eq!(upper, s);
     }
 
     fn binary(tris: &[[[f32; 3]; 3]], header: &[u8]) -> Vec<u8> {
