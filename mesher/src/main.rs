@@ -151,7 +151,7 @@ fn read_points(input: &Path) -> Result<Vec<mesher::Point>> {
     if is_node {
         Ok(mesher::io::points::read_node_points(input)?)
     } else {
-        Ok(mesher::io::read_surface(input)?.surface.vertices)
+        Ok(mesher::io::read_surface_unwelded(input)?.vertices)
     }
 }
 

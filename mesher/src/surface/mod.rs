@@ -14,3 +14,5 @@ pub struct Surface {
     /// Triangles as 0-based vertex indices.
     pub triangles: Vec<[u32; 3]>,
 }
+
+pub mod generate;
