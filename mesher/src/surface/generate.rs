@@ -170,6 +170,8 @@ mod tests {
         assert_eq!(c.vertices.len(), 6 * 9 + 2);
         let t = torus(24, 12, 1.0, 0.3);
         let exact = 2.0 * std::f64::consts::PI.powi(2) * 0.09;
-        assert!((signed_volume(&t) - exact).abs() / exact < 0.05);
+        let v = signed_volume(&t);
+        // Inscribed polygons lose about 5.6 % at this resolution.
+        assert!(v < exact && (v - exact).abs() / exact < 0.08, "{v} vs {exact}");
     }
 }
