@@ -82,7 +82,7 @@ fn c3(p: DVec3) -> Coord3D<f64> {
 /// bound is on the permanent itself, so it is safe for any magnitude).
 const O3D_ERR: f64 = 7.771_561_172_376_103e-16;
 /// Shewchuk's `isperrboundA`.
-const ISP_ERR: f64 = 1.776_356_839_400_252_8e-15;
+const ISP_ERR: f64 = 1.776_356_839_400_253e-15;
 
 /// Orientation of the tetrahedron `(a, b, c, d)`: the sign of `det[b-a, c-a, d-a]`,
 /// exact.
