@@ -1,8 +1,22 @@
 //! Closed triangulated surfaces: the input S of the mesher (paper §2, §4).
 //!
 //! A [`Surface`] is indexed (shared vertices, triangles as index triples). Readers in
-//! [`crate::io`] produce it; `check` reports every defect that would stop the boundary
-//! mesh (open, non-manifold, self-intersecting, degenerate input).
+//! [`crate::io`] produce it; [`Surface::check`] reports every defect that would stop the
+//! boundary mesh (open, non-manifold, self-intersecting, degenerate input) in a
+//! [`CheckReport`].
+//!
+//! Submodules: `check` (entry point, self-intersections), `topology` (indices, edges,
+//! fans), [`intersect`] (exact triangle-triangle test), `bvh` (box hierarchy), `shells`
+//! (components and nesting), [`report`] (the report types and their display).
+
+mod bvh;
+mod check;
+pub mod intersect;
+pub mod report;
+mod shells;
+mod topology;
+
+pub use report::CheckReport;
 
 use crate::geom::Point;
 
