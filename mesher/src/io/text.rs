@@ -1,0 +1,254 @@
+//! Tokenising helpers shared by the text readers: whitespace-separated tokens with line
+//! numbers, optional `#` comments, typed parsing with errors that name file and line.
+
+use super::error::IoError;
+
+/// A stream of whitespace-separated tokens over a text (a whole file or a single line),
+/// tracking the line of each token.
+#[derive(Clone)]
+pub(crate) struct Tokens<'a> {
+    file: &'a str,
+    rest: &'a str,
+    /// Line of the current position in `rest`.
+    line: usize,
+    /// Line of the last token returned (or of the start, before any token).
+    tok_line: usize,
+    comment: Option<char>,
+    /// "file" or "line", used in "unexpected end of ..." messages.
+    scope: &'static str,
+}
+
+impl<'a> Tokens<'a> {
+    /// Tokens of a whole text starting at line 1.
+    pub(crate) fn new(file: &'a str, text: &'a str, comment: Option<char>) -> Tokens<'a> {
+        Tokens::starting_at(file, text, 1, comment, "file")
+    }
+
+    /// Tokens of a text whose first character is on line `line`.
+    pub(crate) fn starting_at(
+        file: &'a str,
+        text: &'a str,
+        line: usize,
+        comment: Option<char>,
+        scope: &'static str,
+    ) -> Tokens<'a> {
+        Tokens {
+            file,
+            rest: text,
+            line,
+            tok_line: line,
+            comment,
+            scope,
+        }
+    }
+
+    /// The file name used in errors.
+    pub(crate) fn file(&self) -> &'a str {
+        self.file
+    }
+
+    /// The next token, or `None` at the end.
+    pub(crate) fn next_token(&mut self) -> Option<&'a str> {
+        loop {
+            let trimmed = self
+                .rest
+                .trim_start_matches(|c: char| c.is_whitespace() && c != '\n');
+            self.rest = trimmed;
+            let c = trimmed.chars().next()?;
+            if c == '\n' {
+                self.line += 1;
+                self.rest = &trimmed[1..];
+            } else if Some(c) == self.comment {
+                let end = trimmed.find('\n').unwrap_or(trimmed.len());
+                self.rest = &trimmed[end..];
+            } else {
+                let end = trimmed
+                    .find(|c: char| c.is_whitespace() || Some(c) == self.comment)
+                    .unwrap_or(trimmed.len());
+                let (tok, rest) = trimmed.split_at(end);
+                self.rest = rest;
+                self.tok_line = self.line;
+                return Some(tok);
+            }
+        }
+    }
+
+    /// The next token without consuming it.
+    pub(crate) fn peek(&self) -> Option<&'a str> {
+        self.clone().next_token()
+    }
+
+    /// An error at the line of the last token.
+    pub(crate) fn error(&self, msg: impl Into<String>) -> IoError {
+        IoError::parse(self.file, self.tok_line, msg)
+    }
+
+    /// The next token, or an error saying what was expected.
+    pub(crate) fn expect(&mut self, what: &str) -> Result<&'a str, IoError> {
+        match self.next_token() {
+            Some(t) => Ok(t),
+            None => {
+                self.tok_line = self.line;
+                Err(self.error(format!("unexpected end of {}, expected {what}", self.scope)))
+            }
+        }
+    }
+
+    /// The next token parsed as a finite float.
+    pub(crate) fn f64(&mut self, what: &str) -> Result<f64, IoError> {
+        let t = self.expect(what)?;
+        match t.parse::<f64>() {
+            Ok(v) if v.is_finite() => Ok(v),
+            Ok(_) => Err(self.error(format!("{what} '{t}' is not finite"))),
+            Err(_) => Err(self.error(format!("expected {what} (a number), found '{t}'"))),
+        }
+    }
+
+    /// The next token parsed as a signed integer.
+    pub(crate) fn i64(&mut self, what: &str) -> Result<i64, IoError> {
+        let t = self.expect(what)?;
+        t.parse::<i64>()
+            .map_err(|_| self.error(format!("expected {what} (an integer), found '{t}'")))
+    }
+
+    /// The next token parsed as an `i32` reference.
+    pub(crate) fn i32(&mut self, what: &str) -> Result<i32, IoError> {
+        let v = self.i64(what)?;
+        i32::try_from(v).map_err(|_| self.error(format!("{what} {v} is out of range")))
+    }
+
+    /// The next token parsed as a count (non-negative integer).
+    pub(crate) fn count(&mut self, what: &str) -> Result<usize, IoError> {
+        let t = self.expect(what)?;
+        t.parse::<usize>().map_err(|_| {
+            self.error(format!(
+                "expected {what} (a non-negative integer), found '{t}'"
+            ))
+        })
+    }
+
+    /// Three finite floats.
+    pub(crate) fn point(&mut self) -> Result<crate::geom::Point, IoError> {
+        let x = self.f64("x coordinate")?;
+        let y = self.f64("y coordinate")?;
+        let z = self.f64("z coordinate")?;
+        Ok(crate::geom::Point::new(x, y, z))
+    }
+
+    /// A vertex index given in `base`-based numbering, checked against `n` vertices when
+    /// `n` is known, returned 0-based.
+    pub(crate) fn index(
+        &mut self,
+        elem: &str,
+        base: i64,
+        n: Option<usize>,
+    ) -> Result<u32, IoError> {
+        let raw = self.i64("vertex index")?;
+        to_index(raw, base, n).map_err(|m| self.error(format!("{elem} {m}")))
+    }
+
+    /// `k` vertex indices (see [`Tokens::index`]).
+    pub(crate) fn indices<const K: usize>(
+        &mut self,
+        elem: &str,
+        base: i64,
+        n: Option<usize>,
+    ) -> Result<[u32; K], IoError> {
+        let mut out = [0u32; K];
+        for slot in out.iter_mut() {
+            *slot = self.index(elem, base, n)?;
+        }
+        Ok(out)
+    }
+}
+
+/// Converts a `base`-based index into a 0-based `u32`, checking it against `n` vertices.
+/// The error message continues a sentence starting with the element's name.
+pub(crate) fn to_index(raw: i64, base: i64, n: Option<usize>) -> Result<u32, String> {
+    let zero = raw.checked_sub(base);
+    let ok = zero.and_then(|z| u32::try_from(z).ok());
+    match (ok, n) {
+        (Some(z), Some(n)) if (z as usize) < n => Ok(z),
+        (Some(z), None) => Ok(z),
+        (_, Some(n)) => Err(format!(
+            "refers to vertex {raw} but there are {n} vertices (numbered from {base})"
+        )),
+        (None, None) => Err(format!(
+            "refers to invalid vertex {raw} (numbered from {base})"
+        )),
+    }
+}
+
+/// The lines of a text with 1-based numbers, skipping blank lines and, when `comment` is
+/// given, lines that hold only a comment. Each line is returned as its own token stream.
+pub(crate) struct Lines<'a> {
+    file: &'a str,
+    iter: std::iter::Enumerate<std::str::Lines<'a>>,
+    comment: Option<char>,
+    last: usize,
+}
+
+impl<'a> Lines<'a> {
+    /// Lines of `text`.
+    pub(crate) fn new(file: &'a str, text: &'a str, comment: Option<char>) -> Lines<'a> {
+        Lines {
+            file,
+            iter: text.lines().enumerate(),
+            comment,
+            last: 0,
+        }
+    }
+
+    /// The next non-blank line as tokens, or `None` at the end of the text.
+    pub(crate) fn next_line(&mut self) -> Option<Tokens<'a>> {
+        for (i, text) in self.iter.by_ref() {
+            self.last = i + 1;
+            let t = Tokens::starting_at(self.file, text, i + 1, self.comment, "line");
+            if t.peek().is_some() {
+                return Some(t);
+            }
+        }
+        None
+    }
+
+    /// The next non-blank line, or an error saying what was expected.
+    pub(crate) fn expect_line(&mut self, what: &str) -> Result<Tokens<'a>, IoError> {
+        match self.next_line() {
+            Some(t) => Ok(t),
+            None => Err(IoError::parse(
+                self.file,
+                self.last + 1,
+                format!("unexpected end of file, expected {what}"),
+            )),
+        }
+    }
+
+    /// An error at the last line returned.
+    pub(crate) fn error(&self, msg: impl Into<String>) -> IoError {
+        IoError::parse(self.file, self.last, msg)
+    }
+}
+
+/// Checks that every index of every element is below `n`; for formats where elements may
+/// come before vertices. `base` is the file's numbering base, used in the message.
+pub(crate) fn check_indices<const K: usize>(
+    file: &str,
+    kind: &str,
+    elems: &[[u32; K]],
+    n: usize,
+    base: i64,
+) -> Result<(), IoError> {
+    for (i, e) in elems.iter().enumerate() {
+        if let Some(&v) = e.iter().find(|&&v| v as usize >= n) {
+            return Err(IoError::invalid(
+                file,
+                format!(
+                    "{kind} {} refers to vertex {} but there are {n} vertices",
+                    i as i64 + base,
+                    v as i64 + base
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
