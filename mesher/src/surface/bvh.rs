@@ -46,14 +46,14 @@ impl Box3 {
 /// Items per leaf.
 const LEAF: usize = 4;
 
+/// A node covers the contiguous items `start..end` (in leaf order).
 #[derive(Clone, Copy, Debug)]
 struct Node {
     bounds: Box3,
-    /// Leaf: first item in `items`. Internal: index of the right child (the left child
-    /// is the next node).
-    first_or_right: u32,
-    /// Number of items for a leaf, 0 for an internal node.
-    count: u32,
+    start: u32,
+    end: u32,
+    /// Index of the right child (the left child is the next node); 0 for a leaf.
+    right: u32,
 }
 
 /// The hierarchy over a set of boxes identified by `u32` ids.
@@ -82,11 +82,14 @@ impl Bvh {
         self.depth = self.depth.max(depth);
         let bounds = items.iter().fold(Box3::EMPTY, |acc, (_, b)| acc.union(b));
         let idx = self.nodes.len();
+        let start = self.items.len() as u32;
+        let end = start + items.len() as u32;
         if items.len() <= LEAF {
             self.nodes.push(Node {
                 bounds,
-                first_or_right: self.items.len() as u32,
-                count: items.len() as u32,
+                start,
+                end,
+                right: 0,
             });
             self.items.extend_from_slice(items);
             return idx;
@@ -106,38 +109,58 @@ impl Bvh {
         items.select_nth_unstable_by(mid, |a, b| a.1.centre(axis).total_cmp(&b.1.centre(axis)));
         self.nodes.push(Node {
             bounds,
-            first_or_right: 0,
-            count: 0,
+            start,
+            end,
+            right: 0,
         });
         let (left, right) = items.split_at_mut(mid);
         self.build_node(left, depth + 1);
         let r = self.build_node(right, depth + 1);
-        self.nodes[idx].first_or_right = r as u32;
+        self.nodes[idx].right = r as u32;
         idx
     }
 
+    /// Number of items.
+    pub fn len(&self) -> usize {
+        self.items.len()
+    }
+
+    /// The item at position `pos` of the leaf order: its id and box.
+    pub fn item(&self, pos: usize) -> (u32, Box3) {
+        self.items[pos]
+    }
+
     /// Calls `visit(id)` for every item whose box overlaps `q`, in no particular order.
-    pub fn query(&self, q: &Box3, mut visit: impl FnMut(u32)) {
+    #[cfg(test)]
+    pub fn query(&self, q: &Box3, visit: impl FnMut(u32)) {
+        self.query_after(0, q, visit);
+    }
+
+    /// Calls `visit(id)` for every item at leaf-order position `>= from` whose box
+    /// overlaps `q`. Querying each item's own box with `from = pos + 1` enumerates every
+    /// overlapping pair once, and queries in leaf order touch nearby nodes in turn.
+    pub fn query_after(&self, from: usize, q: &Box3, mut visit: impl FnMut(u32)) {
         if self.nodes.is_empty() {
             return;
         }
+        let from = from as u32;
         // A right child is pushed at most once per level: the stack never exceeds depth.
         let mut stack: Vec<u32> = Vec::with_capacity(self.depth + 1);
         stack.push(0);
         while let Some(n) = stack.pop() {
             let node = &self.nodes[n as usize];
-            if !node.bounds.overlaps(q) {
+            if node.end <= from || !node.bounds.overlaps(q) {
                 continue;
             }
-            if node.count > 0 {
-                let s = node.first_or_right as usize;
-                for (id, b) in &self.items[s..s + node.count as usize] {
+            if node.right == 0 {
+                let s = node.start.max(from) as usize;
+                for (id, b) in &self.items[s..node.end as usize] {
                     if b.overlaps(q) {
                         visit(*id);
                     }
                 }
             } else {
-                stack.push(node.first_or_right);
+                stack.push(node.right);
                 stack.push(n + 1);
             }
         }

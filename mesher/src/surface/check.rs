@@ -7,9 +7,11 @@
 //! ([`shells`]).
 //!
 //! Self-intersections: every face with finite, non-collinear corners gets its exact
-//! bounding box in a [`Bvh`]; each face queries the tree and every overlapping face with
-//! a higher id is tested with the exact [`faces_intersect`], which lets faces touch at
-//! the vertices or edge they share by index. Faces on the same three vertex ids are
+//! bounding box in a [`Bvh`]; each face, taken in the tree's leaf order (spatially
+//! coherent, so consecutive queries reuse cached nodes), queries the tree for the
+//! overlapping faces later in that order, and each such pair is tested with the exact
+//! [`faces_intersect`], which lets faces touch at the vertices or edge they share by
+//! index. Faces on the same three vertex ids are
 //! reported as duplicates and not as intersections. The face ranges are processed in
 //! parallel with rayon; the result is the same for any thread count (the lowest
 //! [`MAX_PAIRS`] pairs are kept and the count is a sum), unless the
@@ -95,27 +97,26 @@ const CHUNK: usize = 2048;
 
 /// Exact self-intersection test over a BVH of face boxes.
 fn self_intersections(s: &Surface, st: &FaceStatus) -> SelfIntersections {
-    let mut boxes = vec![Box3::EMPTY; s.triangles.len()];
     let mut items = Vec::new();
     for (f, t) in s.triangles.iter().enumerate() {
         if st.geom_ok[f] {
             let p = t.map(|v| s.vertices[v as usize]);
             let lo = p[0].min(p[1]).min(p[2]);
             let hi = p[0].max(p[1]).max(p[2]);
-            boxes[f] = Box3 {
+            let b = Box3 {
                 min: lo.to_array(),
                 max: hi.to_array(),
             };
-            items.push((f as u32, boxes[f]));
+            items.push((f as u32, b));
         }
     }
-    let ids: Vec<u32> = items.iter().map(|(f, _)| *f).collect();
     let bvh = Bvh::build(items);
     let used = AtomicU64::new(0);
     let stop = AtomicBool::new(false);
-    let total = ids
-        .par_chunks(CHUNK)
-        .map(|chunk| scan_faces(s, &bvh, &boxes, chunk, &used, &stop))
+    let n = bvh.len();
+    let total = (0..n.div_ceil(CHUNK))
+        .into_par_iter()
+        .map(|c| scan_faces(s, &bvh, c * CHUNK..n.min((c + 1) * CHUNK), &used, &stop))
         .reduce(Partial::default, Partial::merge);
     SelfIntersections {
         count: total.count,
@@ -132,28 +133,26 @@ fn self_intersections(s: &Surface, st: &FaceStatus) -> SelfIntersections {
     }
 }
 
-/// Tests each face of `chunk` against the overlapping faces of higher id.
+/// Tests the faces at leaf-order positions `range` against the overlapping faces later
+/// in leaf order.
 fn scan_faces(
     s: &Surface,
     bvh: &Bvh,
-    boxes: &[Box3],
-    chunk: &[u32],
+    range: std::ops::Range<usize>,
     used: &AtomicU64,
     stop: &AtomicBool,
 ) -> Partial {
     let mut part = Partial::default();
-    for &f in chunk {
+    for pos in range {
         if stop.load(Ordering::Relaxed) {
             break;
         }
+        let (f, bf) = bvh.item(pos);
         let tf = s.triangles[f as usize];
         let pf = tf.map(|v| s.vertices[v as usize]);
         let kf = sorted_ids(tf);
         let mut tested = 0u64;
-        bvh.query(&boxes[f as usize], |g| {
-            if g <= f {
-                return;
-            }
+        bvh.query_after(pos + 1, &bf, |g| {
             tested += 1;
             let tg = s.triangles[g as usize];
             if sorted_ids(tg) == kf {
@@ -162,7 +161,7 @@ fn scan_faces(
             let pg = tg.map(|v| s.vertices[v as usize]);
             if faces_intersect(&pf, tf, &pg, tg) {
                 part.count += 1;
-                part.pairs.push((f, g));
+                part.pairs.push((f.min(g), f.max(g)));
             }
         });
         part.candidates += tested;
