@@ -474,3 +474,24 @@ fn timing_icosphere_327k() {
     );
     assert!(r.is_clean(), "{r}");
 }
+
+#[test]
+fn many_bodies_side_by_side() {
+    let parts: Vec<Surface> = (0..2000)
+        .map(|i| tet(p((i % 50) as f64 * 2.0, (i / 50) as f64 * 2.0, 0.0)))
+        .collect();
+    let r = union(&parts).check();
+    assert!(r.is_clean(), "{r}");
+    assert_eq!(r.shells.len(), 2000);
+    assert_eq!(r.num_bodies(), 2000);
+}
+
+#[test]
+fn box_in_box_in_torus_hole_is_not_nested() {
+    // A cube in the hole of a torus: inside its bounding box but outside the solid.
+    let s = union(&[torus(32, 16), cube(p(-0.3, -0.3, -0.3), 0.6, false)]);
+    let r = s.check();
+    assert!(r.is_clean(), "{r}");
+    assert_eq!(r.shells[1].depth, Some(0));
+    assert_eq!(r.num_bodies(), 2);
+}

@@ -18,6 +18,7 @@
 //! (negative volume); a mismatch is reported as a warning, since the nesting already
 //! tells the sides.
 
+use super::bvh::{Box3, Bvh};
 use super::intersect::{segment_crossing, Crossing};
 use super::report::{CheckReport, Shell};
 use super::topology::{find, EdgeTable, FaceStatus};
@@ -191,9 +192,24 @@ fn nesting(s: &Surface, st: &FaceStatus, sf: &ShellFaces, r: &mut CheckReport) {
         })
         .collect();
     let mut containers: Vec<Option<Vec<usize>>> = vec![None; n];
+    // Candidate containers come from a tree of shell boxes, so many small side-by-side
+    // bodies cost O(k log k) and not O(k^2).
+    let boxes: Vec<(u32, Box3)> = (0..n)
+        .filter(|&b| usable[b])
+        .map(|b| {
+            let [min, max] = r.shells[b].bbox;
+            (b as u32, Box3 { min, max })
+        })
+        .collect();
+    let tree = Bvh::build(boxes);
+    let mut cand: Vec<usize> = Vec::new();
     for a in (0..n).filter(|&a| usable[a]) {
         let mut inside = Some(Vec::new());
-        for b in (0..n).filter(|&b| b != a && usable[b]) {
+        let [min, max] = r.shells[a].bbox;
+        cand.clear();
+        tree.query_after(0, &Box3 { min, max }, |b| cand.push(b as usize));
+        cand.sort_unstable();
+        for &b in cand.iter().filter(|&&b| b != a) {
             if !box_within(&r.shells[a].bbox, &r.shells[b].bbox) {
                 continue;
             }
