@@ -3,7 +3,7 @@
 //! `MESHER_CGAL_DATA=/path/to/data/meshes cargo test --release -p mesher --test
 //! surface_real -- --ignored --nocapture` (default path `/tmp/cgal-data/data/meshes`).
 
-use mesher::io::read_surface;
+use mesher::io::{read_surface, read_surface_unwelded};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -38,5 +38,10 @@ fn cgal_meshes() {
             t.elapsed().as_secs_f64(),
             r.self_intersections.candidates
         );
+        if read.welded_vertices > 0 {
+            if let Ok(raw) = read_surface_unwelded(&path) {
+                println!("-- {name} without welding:\n{}", raw.check());
+            }
+        }
     }
 }
