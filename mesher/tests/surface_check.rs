@@ -495,3 +495,27 @@ fn box_in_box_in_torus_hole_is_not_nested() {
     assert_eq!(r.shells[1].depth, Some(0));
     assert_eq!(r.num_bodies(), 2);
 }
+
+#[test]
+fn deep_nesting_with_shared_planes_and_alternating_orientation() {
+    // Five cubes nested around off-centre points; several share coordinate planes with
+    // their container's vertices, so axis-aligned rays would hit edges.
+    let parts: Vec<Surface> = (0..5)
+        .map(|i| {
+            let lo = i as f64 * 0.5;
+            let size = 10.0 - i as f64 * 1.5;
+            cube(p(lo, lo * 0.5, lo), size, i % 2 == 1)
+        })
+        .rev()
+        .collect();
+    let r = union(&parts).check();
+    assert!(r.is_clean(), "{r}");
+    // Shell k is parts[k], i.e. cube 4 - k.
+    for (k, sh) in r.shells.iter().enumerate() {
+        let level = 4 - k;
+        assert_eq!(sh.depth, Some(level), "{r}");
+        let parent = (level > 0).then(|| k + 1);
+        assert_eq!(sh.parent, parent, "{r}");
+    }
+    assert!(r.warnings.is_empty(), "{r}");
+}

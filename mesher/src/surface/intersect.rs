@@ -300,6 +300,23 @@ mod tests {
     }
 
     #[test]
+    fn segment_crossing_cases() {
+        let t = [v(0.0, 0.0, 0.0), v(2.0, 0.0, 0.0), v(0.0, 2.0, 0.0)];
+        let c = |p: Point, q: Point| segment_crossing(p, q, &t);
+        assert_eq!(c(v(0.5, 0.5, -1.0), v(0.5, 0.5, 1.0)), Crossing::Proper);
+        assert_eq!(c(v(3.0, 3.0, -1.0), v(3.0, 3.0, 1.0)), Crossing::Miss);
+        assert_eq!(c(v(0.5, 0.5, 1.0), v(0.5, 0.5, 2.0)), Crossing::Miss);
+        assert_eq!(c(v(0.5, 0.5, 0.0), v(0.5, 0.5, 2.0)), Crossing::AtStart);
+        assert_eq!(c(v(3.0, 3.0, 0.0), v(3.0, 3.0, 2.0)), Crossing::Miss);
+        // Through an edge, through a vertex, ending on the face, lying in the plane.
+        assert_eq!(c(v(1.0, 0.0, -1.0), v(1.0, 0.0, 1.0)), Crossing::Degenerate);
+        assert_eq!(c(v(0.0, 0.0, -1.0), v(0.0, 0.0, 1.0)), Crossing::Degenerate);
+        assert_eq!(c(v(0.5, 0.5, -1.0), v(0.5, 0.5, 0.0)), Crossing::Degenerate);
+        assert_eq!(c(v(-1.0, 0.5, 0.0), v(3.0, 0.5, 0.0)), Crossing::Degenerate);
+        assert_eq!(c(v(-1.0, 5.0, 0.0), v(3.0, 5.0, 0.0)), Crossing::Miss);
+    }
+
+    #[test]
     fn collinear() {
         assert!(is_collinear(
             v(0.0, 0.0, 0.0),

@@ -5,6 +5,11 @@
 //! boundary mesh (open, non-manifold, self-intersecting, degenerate input) in a
 //! [`CheckReport`].
 //!
+//! Public API: [`Surface::check`] -> [`CheckReport`] (`is_clean`, `num_defects`,
+//! `num_bodies`, `Display` for people, `Serialize` for machines);
+//! [`Surface::faces_intersect`] for one pair of faces; [`intersect::triangles_intersect`]
+//! and [`intersect::is_collinear`] on bare points.
+//!
 //! Submodules: `check` (entry point, self-intersections), `topology` (indices, edges,
 //! fans), [`intersect`] (exact triangle-triangle test), `bvh` (box hierarchy), `shells`
 //! (components and nesting), [`report`] (the report types and their display).

@@ -234,6 +234,12 @@ fn nesting(s: &Surface, st: &FaceStatus, sf: &ShellFaces, r: &mut CheckReport) {
             .copied()
             .max_by_key(|&b| (depth_of(b), usize::MAX - b));
     }
+    orientation_warnings(r);
+}
+
+/// Warns about closed shells whose signed volume does not have the sign their depth
+/// calls for.
+fn orientation_warnings(r: &mut CheckReport) {
     for sh in r.shells.iter() {
         let Some(d) = sh.depth else { continue };
         let (want, what) = if d % 2 == 0 {
