@@ -1,8 +1,27 @@
 //! Closed triangulated surfaces: the input S of the mesher (paper §2, §4).
 //!
 //! A [`Surface`] is indexed (shared vertices, triangles as index triples). Readers in
-//! [`crate::io`] produce it; `check` reports every defect that would stop the boundary
-//! mesh (open, non-manifold, self-intersecting, degenerate input).
+//! [`crate::io`] produce it; [`Surface::check`] reports every defect that would stop the
+//! boundary mesh (open, non-manifold, self-intersecting, degenerate input) in a
+//! [`CheckReport`].
+//!
+//! Public API: [`Surface::check`] -> [`CheckReport`] (`is_clean`, `num_defects`,
+//! `num_bodies`, `Display` for people, `Serialize` for machines);
+//! [`Surface::faces_intersect`] for one pair of faces; [`intersect::triangles_intersect`]
+//! and [`intersect::is_collinear`] on bare points.
+//!
+//! Submodules: `check` (entry point, self-intersections), `topology` (indices, edges,
+//! fans), [`intersect`] (exact triangle-triangle test), `bvh` (box hierarchy), `shells`
+//! (components and nesting), [`report`] (the report types and their display).
+
+mod bvh;
+mod check;
+pub mod intersect;
+pub mod report;
+mod shells;
+mod topology;
+
+pub use report::CheckReport;
 
 use crate::geom::Point;
 
