@@ -270,11 +270,11 @@ impl Kernel {
                 let slot = self.boundary[k].slot as usize;
                 let loc = self.locals[k];
                 let t = self.new_tets[k];
-                for j in 0..4 {
+                for (j, after) in EDGE_AFTER.iter().enumerate() {
                     if j == slot {
                         continue;
                     }
-                    let (pa, pb) = EDGE_AFTER[j][slot];
+                    let (pa, pb) = after[slot];
                     let (lx, ly) = (loc[pa] as usize, loc[pb] as usize);
                     if pass == 0 {
                         self.pairs[lx * LOCAL_IDS + ly] = FaceRef::new(TetId(t), j).raw();
@@ -325,11 +325,11 @@ impl Kernel {
         for k in 0..self.boundary.len() {
             let b = self.boundary[k];
             let t = self.new_tets[k];
-            for j in 0..4 {
+            for (j, after) in EDGE_AFTER.iter().enumerate() {
                 if j == b.slot as usize {
                     continue;
                 }
-                let (pa, pb) = EDGE_AFTER[j][b.slot as usize];
+                let (pa, pb) = after[b.slot as usize];
                 let (x, y) = (b.verts[pa], b.verts[pb]);
                 debug_assert!(x != v && y != v);
                 let here = FaceRef::new(TetId(t), j);

@@ -114,7 +114,7 @@ fn points_on_a_sphere() {
     let mut pts = Vec::new();
     for i in 0..12 {
         for j in 1..12 {
-            let (t, f) = (i as f64 * 0.5236, j as f64 * 0.2618);
+            let (t, f) = (i as f64 * 0.52, j as f64 * 0.26);
             pts.push(Point::new(f.sin() * t.cos(), f.sin() * t.sin(), f.cos()));
         }
     }

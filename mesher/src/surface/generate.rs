@@ -172,6 +172,9 @@ mod tests {
         let exact = 2.0 * std::f64::consts::PI.powi(2) * 0.09;
         let v = signed_volume(&t);
         // Inscribed polygons lose about 5.6 % at this resolution.
-        assert!(v < exact && (v - exact).abs() / exact < 0.08, "{v} vs {exact}");
+        assert!(
+            v < exact && (v - exact).abs() / exact < 0.08,
+            "{v} vs {exact}"
+        );
     }
 }
