@@ -145,9 +145,10 @@ impl Kernel {
                 if i == came {
                     continue;
                 }
-                let mut s = q;
-                s[i] = p;
-                if orient3d(s[0], s[1], s[2], s[3]) == Orientation::Negative {
+                // Vertex i is on the positive side of its face: crossing when p is on
+                // the negative side.
+                let f = FACE_VERTICES[i];
+                if orient3d(q[f[0]], q[f[1]], q[f[2]], p) == Orientation::Negative {
                     let f = FaceRef::from_raw(mesh.raw_adj(t)[i]);
                     t = f.tet().0;
                     came = f.facet();
@@ -208,6 +209,9 @@ impl Kernel {
                     continue;
                 }
                 if s != OUT && in_conflict(mesh, u, p) {
+                    for a in mesh.raw_adj(u) {
+                        mesh.prefetch(a >> 2);
+                    }
                     self.marks[u as usize] = IN;
                     self.stack.push(u);
                     self.cavity.push(u);

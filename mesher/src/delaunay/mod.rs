@@ -119,15 +119,23 @@ pub fn triangulate(
     mesh.reserve_tets(points.len() * 7);
     let mut kernel = Kernel::new();
     let mut duplicates = 0;
-    for &i in &order {
+    // Gather the points in insertion order first: independent loads that the processor
+    // overlaps, instead of one cache miss per insertion inside the dependent loop.
+    let ordered: Vec<Point> = order.iter().map(|&i| points[i as usize]).collect();
+    let mut inserted = Vec::with_capacity(order.len());
+    for (&i, &p) in order.iter().zip(&ordered) {
         if simplex.contains(&i) {
+            inserted.push(vertex_of_input[i as usize]);
             continue;
         }
-        let ins = kernel.insert(&mut mesh, points[i as usize])?;
+        let ins = kernel.insert(&mut mesh, p)?;
         if matches!(ins, Inserted::Duplicate(_)) {
             duplicates += 1;
         }
-        vertex_of_input[i as usize] = ins.vertex();
+        inserted.push(ins.vertex());
+    }
+    for (&i, &v) in order.iter().zip(&inserted) {
+        vertex_of_input[i as usize] = v;
     }
     Ok(Triangulation {
         mesh,

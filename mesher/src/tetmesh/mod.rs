@@ -241,6 +241,17 @@ impl TetMesh {
         self.cells[t as usize].v
     }
 
+    /// Hints the processor to load tet `t` (no effect on other targets).
+    #[inline]
+    pub(crate) fn prefetch(&self, t: u32) {
+        #[cfg(target_arch = "x86_64")]
+        if let Some(c) = self.cells.get(t as usize) {
+            use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+            // SAFETY: a prefetch never faults and SSE is part of the x86_64 baseline.
+            unsafe { _mm_prefetch::<_MM_HINT_T0>((c as *const Cell).cast::<i8>()) };
+        }
+    }
+
     /// Raw neighbour handles of a tet.
     #[inline]
     pub(crate) fn raw_adj(&self, t: u32) -> [u32; 4] {
