@@ -21,7 +21,10 @@ fn dir() -> Option<PathBuf> {
         "CGAL data meshes missing in {}: run scripts/fetch-corpus.sh",
         d.display()
     );
-    eprintln!("skipped: no CGAL data meshes in {} (run scripts/fetch-corpus.sh)", d.display());
+    eprintln!(
+        "skipped: no CGAL data meshes in {} (run scripts/fetch-corpus.sh)",
+        d.display()
+    );
     None
 }
 
@@ -64,7 +67,10 @@ fn dirty_models_name_their_defect() {
     assert!(r.to_string().contains("open edges"));
 
     let r = check("elephant-with-holes").expect("data present");
-    assert!(!r.open_edges.is_empty() && !r.pinched_vertices.is_empty(), "{r}");
+    assert!(
+        !r.open_edges.is_empty() && !r.pinched_vertices.is_empty(),
+        "{r}"
+    );
 
     let r = check("man").expect("data present");
     assert!(r.self_intersections.count > 0, "man:\n{r}");

@@ -16,7 +16,7 @@
 //!   by per-insertion local vertex ids (HXT's scheme), with a hash map for huge cavities.
 
 use super::DelaunayError;
-use crate::geom::predicates::{insphere_perturbed, orient3d, Orientation, Sphere};
+use crate::geom::predicates::{orient3d, Orientation, Sphere, StaticFilter};
 use crate::geom::Point;
 use crate::tetmesh::{FaceRef, TetId, TetMesh, VertexId, FACE_VERTICES};
 use std::collections::HashMap;
@@ -88,6 +88,9 @@ pub struct Kernel {
     big_pairs: HashMap<(u32, u32), FaceRef>,
     rng: u64,
     last: u32,
+    /// Static filter for the box every vertex lies in ([`StaticFilter::none`] when
+    /// unknown); points outside it are tested with the generic filter.
+    filter: StaticFilter,
     /// Counters since the kernel was made.
     pub stats: KernelStats,
 }
@@ -100,7 +103,26 @@ impl Kernel {
             local_keys: vec![u32::MAX; LOCAL_TABLE],
             local_vals: vec![0; LOCAL_TABLE],
             rng: 0x2545_F491_4F6C_DD1D,
+            filter: StaticFilter::none(),
             ..Kernel::default()
+        }
+    }
+
+    /// Declares that every vertex of the mesh lies in `[min, max]`: enables the static
+    /// filter. Inserting a point outside the box is allowed and switches the filter
+    /// off for good. The caller must not declare a box that misses a mesh vertex.
+    pub fn set_bounds(&mut self, min: Point, max: Point) {
+        self.filter = StaticFilter::new(min, max);
+    }
+
+    /// The static filter if `p` lies in its box, else the generic one (`locate` may be
+    /// called for points outside the box without inserting them).
+    #[inline]
+    fn filter_for(&self, p: Point) -> StaticFilter {
+        if self.filter.contains(p) {
+            self.filter
+        } else {
+            StaticFilter::none()
         }
     }
 
@@ -128,6 +150,7 @@ impl Kernel {
             t = FaceRef::from_raw(mesh.raw_adj(t)[3]).tet().0;
         }
         let bound = 64 + 4 * mesh.num_slots() as u64;
+        let filter = self.filter_for(p);
         let mut came = 4usize;
         let mut steps = 0u64;
         'walk: while steps < bound {
@@ -148,7 +171,7 @@ impl Kernel {
                 // Vertex i is on the positive side of its face: crossing when p is on
                 // the negative side.
                 let f = FACE_VERTICES[i];
-                if orient3d(q[f[0]], q[f[1]], q[f[2]], p) == Orientation::Negative {
+                if filter.orient3d(q[f[0]], q[f[1]], q[f[2]], p) == Orientation::Negative {
                     let f = FaceRef::from_raw(mesh.raw_adj(t)[i]);
                     t = f.tet().0;
                     came = f.facet();
@@ -169,6 +192,10 @@ impl Kernel {
 
     /// Inserts `p`: a new vertex, or the existing vertex at the same coordinates.
     pub fn insert(&mut self, mesh: &mut TetMesh, p: Point) -> Result<Inserted, DelaunayError> {
+        if !self.filter.contains(p) {
+            // A vertex outside the declared box voids the static bounds for good.
+            self.filter = StaticFilter::none();
+        }
         let start = match self.locate(mesh, p) {
             Location::OnVertex(v) => {
                 self.stats.duplicates += 1;
@@ -193,6 +220,7 @@ impl Kernel {
     /// its boundary faces.
     fn grow_cavity(&mut self, mesh: &TetMesh, p: Point, start: u32) {
         self.ensure_marks(mesh);
+        let filter = self.filter_for(p);
         self.cavity.clear();
         self.boundary.clear();
         self.stack.clear();
@@ -208,7 +236,7 @@ impl Kernel {
                 if s == IN {
                     continue;
                 }
-                if s != OUT && in_conflict(mesh, u, p) {
+                if s != OUT && in_conflict(mesh, &filter, u, p) {
                     for a in mesh.raw_adj(u) {
                         mesh.prefetch(a >> 2);
                     }
@@ -392,17 +420,18 @@ fn pt(mesh: &TetMesh, v: u32) -> Point {
     mesh.point(VertexId(v))
 }
 
-/// Is tet `t` in conflict with `p` (see the module doc)?
+/// Is tet `t` in conflict with `p` (see the module doc)? `f` must be valid for `p` and
+/// every vertex of the mesh.
 #[inline]
-fn in_conflict(mesh: &TetMesh, t: u32, p: Point) -> bool {
+fn in_conflict(mesh: &TetMesh, f: &StaticFilter, t: u32, p: Point) -> bool {
     let v = mesh.raw_tet(t);
     if v[3] == GHOST {
-        match orient3d(pt(mesh, v[0]), pt(mesh, v[1]), pt(mesh, v[2]), p) {
+        match f.orient3d(pt(mesh, v[0]), pt(mesh, v[1]), pt(mesh, v[2]), p) {
             Orientation::Positive => true,
             Orientation::Negative => false,
             Orientation::Zero => {
                 let behind = FaceRef::from_raw(mesh.raw_adj(t)[3]).tet().0;
-                in_conflict(mesh, behind, p)
+                in_conflict(mesh, f, behind, p)
             }
         }
     } else {
@@ -412,7 +441,7 @@ fn in_conflict(mesh: &TetMesh, t: u32, p: Point) -> bool {
             pt(mesh, v[2]),
             pt(mesh, v[3]),
         ];
-        insphere_perturbed(q[0], q[1], q[2], q[3], p) == Sphere::Inside
+        f.insphere_perturbed(q[0], q[1], q[2], q[3], p) == Sphere::Inside
     }
 }
 

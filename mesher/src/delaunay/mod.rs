@@ -118,6 +118,9 @@ pub fn triangulate(
     mesh.reserve_vertices(points.len());
     mesh.reserve_tets(points.len() * 7);
     let mut kernel = Kernel::new();
+    if let Some(bb) = crate::geom::Aabb::of_points(points) {
+        kernel.set_bounds(bb.min, bb.max);
+    }
     let mut duplicates = 0;
     // Gather the points in insertion order first: independent loads that the processor
     // overlaps, instead of one cache miss per insertion inside the dependent loop.

@@ -267,3 +267,22 @@ fn huge_cavity_uses_the_map_pairing() {
     check_triangulation(&pts, &tr);
     assert!(tr.stats.large_cavities >= 1);
 }
+
+#[test]
+fn static_filter_bounds_with_points_outside() {
+    // Bounds declared for the unit cube; some points fall outside and take the
+    // generic filter: the result must still be a valid Delaunay mesh.
+    let mut m = box_mesh(Point::splat(-0.5), Point::splat(1.5)).unwrap();
+    let mut k = Kernel::new();
+    k.set_bounds(Point::splat(-0.5), Point::splat(1.5));
+    for p in rand_points(2000, 11) {
+        k.insert(&mut m, p).unwrap();
+    }
+    for p in rand_points(200, 12) {
+        k.insert(&mut m, p * 4.0 - Point::splat(1.5)).unwrap();
+    }
+    for p in rand_points(500, 13) {
+        k.insert(&mut m, p).unwrap();
+    }
+    m.validate(true).unwrap();
+}

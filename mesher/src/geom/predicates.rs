@@ -98,13 +98,7 @@ const FILTER_MAX: f64 = 1e58;
 pub fn orient3d(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> Orientation {
     // Fast path: the determinant of the differences to `a`, with a semi-static error
     // bound. Falls back to the adaptive exact evaluation.
-    let ba = b - a;
-    let ca = c - a;
-    let da = d - a;
-    let m1 = ca.y * da.z - ca.z * da.y;
-    let m2 = ca.z * da.x - ca.x * da.z;
-    let m3 = ca.x * da.y - ca.y * da.x;
-    let det = ba.x * m1 + ba.y * m2 + ba.z * m3;
+    let (det, ba, ca, da) = orient3d_det(a, b, c, d);
     let mx = ba.x.abs().max(ca.x.abs()).max(da.x.abs());
     let my = ba.y.abs().max(ca.y.abs()).max(da.y.abs());
     let mz = ba.z.abs().max(ca.z.abs()).max(da.z.abs());
@@ -120,6 +114,18 @@ pub fn orient3d(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> Orientation {
         }
     }
     orient3d_exact(a, b, c, d)
+}
+
+/// The orientation determinant in floating point, and the differences it used.
+#[inline(always)]
+fn orient3d_det(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> (f64, DVec3, DVec3, DVec3) {
+    let ba = b - a;
+    let ca = c - a;
+    let da = d - a;
+    let m1 = ca.y * da.z - ca.z * da.y;
+    let m2 = ca.z * da.x - ca.x * da.z;
+    let m3 = ca.x * da.y - ca.y * da.x;
+    (ba.x * m1 + ba.y * m2 + ba.z * m3, ba, ca, da)
 }
 
 /// Exact orientation without the fast filter (used by tests to check the filter).
@@ -146,6 +152,31 @@ pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Orientation {
 /// flat.
 #[inline]
 pub fn insphere(a: DVec3, b: DVec3, c: DVec3, d: DVec3, e: DVec3) -> Sphere {
+    let (det, [ae, be, ce, de]) = insphere_det(a, b, c, d, e);
+    let mx = ae.x.abs().max(be.x.abs()).max(ce.x.abs()).max(de.x.abs());
+    let my = ae.y.abs().max(be.y.abs()).max(ce.y.abs()).max(de.y.abs());
+    let mz = ae.z.abs().max(be.z.abs()).max(ce.z.abs()).max(de.z.abs());
+    let lo = mx.min(my).min(mz);
+    let hi = mx.max(my).max(mz);
+    if !(lo > FILTER_MIN && hi < FILTER_MAX) {
+        return insphere_exact(a, b, c, d, e);
+    }
+    let bound = ISP_SEMI * mx * my * mz * hi * hi;
+    // Shewchuk's determinant is positive for "inside" when (a,b,c,d) is positive in his
+    // convention, i.e. negative in ours.
+    if det > bound {
+        return Sphere::Outside;
+    }
+    if -det > bound {
+        return Sphere::Inside;
+    }
+    insphere_exact(a, b, c, d, e)
+}
+
+/// The insphere determinant in floating point (Shewchuk's expression: positive when `e`
+/// is outside for our positive tets), and the differences it used.
+#[inline(always)]
+fn insphere_det(a: DVec3, b: DVec3, c: DVec3, d: DVec3, e: DVec3) -> (f64, [DVec3; 4]) {
     let ae = a - e;
     let be = b - e;
     let ce = c - e;
@@ -165,25 +196,87 @@ pub fn insphere(a: DVec3, b: DVec3, c: DVec3, d: DVec3, e: DVec3) -> Sphere {
     let clift = ce.length_squared();
     let dlift = de.length_squared();
     let det = (dlift * abc - clift * dab) + (blift * cda - alift * bcd);
+    (det, [ae, be, ce, de])
+}
 
-    let mx = ae.x.abs().max(be.x.abs()).max(ce.x.abs()).max(de.x.abs());
-    let my = ae.y.abs().max(be.y.abs()).max(ce.y.abs()).max(de.y.abs());
-    let mz = ae.z.abs().max(be.z.abs()).max(ce.z.abs()).max(de.z.abs());
-    let lo = mx.min(my).min(mz);
-    let hi = mx.max(my).max(mz);
-    if !(lo > FILTER_MIN && hi < FILTER_MAX) {
-        return insphere_exact(a, b, c, d, e);
+/// A static filter for points known to lie in a box (Shewchuk's, TetGen's and HXT's
+/// idea): the error bounds of the semi-static filters, evaluated once with the box
+/// extents as the coordinate differences. One comparison decides most calls; the rest
+/// go through the semi-static filter, then the exact predicate.
+///
+/// Only valid when every point passed lies in the box given to [`StaticFilter::new`]:
+/// callers check [`StaticFilter::contains`] for points that may lie outside.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StaticFilter {
+    min: DVec3,
+    max: DVec3,
+    o3d: f64,
+    isp: f64,
+}
+
+impl StaticFilter {
+    /// A filter for points in the box `[min, max]`.
+    pub fn new(min: DVec3, max: DVec3) -> Self {
+        let m = max - min;
+        let ok = m.is_finite() && m.min_element() > FILTER_MIN && m.max_element() < FILTER_MAX;
+        let hi = m.max_element();
+        let (o3d, isp) = if ok {
+            // Rounded up a little: the bounds themselves are computed in floating point.
+            let prod = m.x * m.y * m.z * (1.0 + 1e-12);
+            (O3D_SEMI * prod, ISP_SEMI * prod * hi * hi * (1.0 + 1e-12))
+        } else {
+            (f64::INFINITY, f64::INFINITY)
+        };
+        StaticFilter { min, max, o3d, isp }
     }
-    let bound = ISP_SEMI * mx * my * mz * hi * hi;
-    // Shewchuk's determinant is positive for "inside" when (a,b,c,d) is positive in his
-    // convention, i.e. negative in ours.
-    if det > bound {
-        return Sphere::Outside;
+
+    /// A filter that never decides alone (every call takes the semi-static path).
+    pub fn none() -> Self {
+        StaticFilter {
+            min: DVec3::INFINITY,
+            max: DVec3::NEG_INFINITY,
+            o3d: f64::INFINITY,
+            isp: f64::INFINITY,
+        }
     }
-    if -det > bound {
-        return Sphere::Inside;
+
+    /// True when `p` lies in the filter's box.
+    #[inline]
+    pub fn contains(&self, p: DVec3) -> bool {
+        p.cmpge(self.min).all() && p.cmple(self.max).all()
     }
-    insphere_exact(a, b, c, d, e)
+
+    /// [`orient3d`] for points in the box.
+    #[inline]
+    pub fn orient3d(&self, a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> Orientation {
+        let (det, ..) = orient3d_det(a, b, c, d);
+        if det > self.o3d {
+            Orientation::Positive
+        } else if -det > self.o3d {
+            Orientation::Negative
+        } else {
+            orient3d(a, b, c, d)
+        }
+    }
+
+    /// [`insphere_perturbed`] for points in the box.
+    #[inline]
+    pub fn insphere_perturbed(&self, a: DVec3, b: DVec3, c: DVec3, d: DVec3, e: DVec3) -> Sphere {
+        let (det, _) = insphere_det(a, b, c, d, e);
+        if det > self.isp {
+            Sphere::Outside
+        } else if -det > self.isp {
+            Sphere::Inside
+        } else {
+            insphere_perturbed(a, b, c, d, e)
+        }
+    }
+}
+
+impl Default for StaticFilter {
+    fn default() -> Self {
+        StaticFilter::none()
+    }
 }
 
 /// Exact insphere without the fast filter.
@@ -352,6 +445,20 @@ mod tests {
             prop_assert_eq!(orient3d(a, b, c, z), orient3d_exact(a, b, c, z));
             prop_assert_eq!(insphere(a, b, c, z, e), insphere_exact(a, b, c, z, e));
             prop_assert_eq!(insphere(a, b, c, z, d), insphere_exact(a, b, c, z, d));
+            // The static filter over the points' box agrees too.
+            let pts = [a, b, c, d, e, z];
+            let lo = pts.iter().fold(DVec3::INFINITY, |m, p| m.min(*p));
+            let hi = pts.iter().fold(DVec3::NEG_INFINITY, |m, p| m.max(*p));
+            let f = StaticFilter::new(lo, hi);
+            prop_assert!(pts.iter().all(|p| f.contains(*p)));
+            prop_assert_eq!(f.orient3d(a, b, c, d), orient3d_exact(a, b, c, d));
+            prop_assert_eq!(f.orient3d(a, b, c, z), orient3d_exact(a, b, c, z));
+            if orient3d_exact(a, b, c, z) == Orientation::Positive {
+                prop_assert_eq!(
+                    f.insphere_perturbed(a, b, c, z, e),
+                    insphere_perturbed(a, b, c, z, e)
+                );
+            }
         }
     }
 }
