@@ -1,14 +1,9 @@
-//! `harness`: side-by-side runs of the mesher and its peers (issue "harness").
-//!
-//! For now only `harness version`; the corpus, runners, metrics and reports come with the harness issue.
+//! `harness`: side-by-side runs of the mesher and its peers.
 
 use clap::{Parser, Subcommand};
 
 #[derive(Parser)]
-#[command(
-    name = "harness",
-    about = "Compare the mesher with TetGen, CGAL, fTetWild and Gmsh"
-)]
+#[command(name = "harness", version, about = "Compare the mesher with TetGen, CGAL, fTetWild and Gmsh")]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -16,13 +11,25 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Print the version of the harness and of the mesher library it measures.
-    Version,
+    /// The corpus of models: list, check, fetch, refine.
+    Corpus(harness::corpus::CorpusArgs),
+    /// Run meshers on corpus models and record the measurements.
+    Run(harness::runners::RunArgs),
+    /// Render tables and plots from recorded runs (never runs a mesher).
+    Report(harness::report::ReportArgs),
 }
 
-fn main() -> anyhow::Result<()> {
-    match Cli::parse().command {
-        Command::Version => println!("harness {}", env!("CARGO_PKG_VERSION")),
+fn main() -> std::process::ExitCode {
+    let result = match Cli::parse().command {
+        Command::Corpus(a) => harness::corpus::cli(a),
+        Command::Run(a) => harness::runners::cli(a),
+        Command::Report(a) => harness::report::cli(a),
+    };
+    match result {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("harness: error: {e:#}");
+            std::process::ExitCode::from(2)
+        }
     }
-    Ok(())
 }

@@ -1,0 +1,10 @@
+//! The comparison harness: a corpus of real boundary meshes, runners that drive the
+//! mesher and its peers (TetGen, CGAL Mesh_3, fTetWild, Gmsh), metrics computed only
+//! through `mesher::quality` from each output file, records, and reports.
+//!
+//! Measuring (`run`) is separate from reporting (`report`): reports read records only.
+
+pub mod corpus;
+pub mod records;
+pub mod report;
+pub mod runners;
