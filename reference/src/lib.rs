@@ -4,8 +4,11 @@
 //! - [`rng`]: a small deterministic generator for reproducible point sets.
 //! - `cgal` (only when CGAL's headers were found at build time): the
 //!   `Delaunay_triangulation_3` driver.
+//! - `mesh3` (likewise): the Mesh_3 driver behind the `cgal-mesh3` binary.
 
 #[cfg(has_cgal)]
 pub mod cgal;
+#[cfg(has_cgal)]
+pub mod mesh3;
 pub mod node;
 pub mod rng;

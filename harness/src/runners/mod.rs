@@ -2,6 +2,8 @@
 //! runs it as a measured child process, and returns the output path; the harness then
 //! measures the output itself (never trusting a peer's statistics).
 
+pub mod cgal;
+
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Duration;
