@@ -3,7 +3,11 @@
 use clap::{Parser, Subcommand};
 
 #[derive(Parser)]
-#[command(name = "harness", version, about = "Compare the mesher with TetGen, CGAL, fTetWild and Gmsh")]
+#[command(
+    name = "harness",
+    version,
+    about = "Compare the mesher with TetGen, CGAL, fTetWild and Gmsh"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
