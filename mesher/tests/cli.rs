@@ -24,7 +24,14 @@ fn text(b: &[u8]) -> String {
 fn generate_check_delaunay_round_trip() {
     let d = scratch("roundtrip");
     let s = d.join("sphere.off");
-    let o = mesher(&["generate", "sphere", "--level", "2", "-o", s.to_str().unwrap()]);
+    let o = mesher(&[
+        "generate",
+        "sphere",
+        "--level",
+        "2",
+        "-o",
+        s.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", text(&o.stderr));
 
     let o = mesher(&["check", s.to_str().unwrap()]);
@@ -55,11 +62,18 @@ fn check_reports_defects_with_exit_code_1() {
     let d = scratch("open");
     let f = d.join("open.off");
     // A tetrahedron with one face missing: three open edges.
-    std::fs::write(&f, "OFF\n4 3 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n")
-        .unwrap();
+    std::fs::write(
+        &f,
+        "OFF\n4 3 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n",
+    )
+    .unwrap();
     let o = mesher(&["check", f.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(1));
-    assert!(text(&o.stdout).contains("open edges"), "{}", text(&o.stdout));
+    assert!(
+        text(&o.stdout).contains("open edges"),
+        "{}",
+        text(&o.stdout)
+    );
     let o = mesher(&["check", f.to_str().unwrap(), "--json"]);
     let r: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON report");
     assert_eq!(r["open_edges"].as_array().map(Vec::len), Some(3));
