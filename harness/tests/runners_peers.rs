@@ -145,3 +145,55 @@ fn quality_agrees_with_numpy_on_a_tetgen_mesh() {
         );
     }
 }
+
+/// Two nested spheres (radius 1 and 0.5, the inner one facing inwards): a hollow ball.
+fn hollow_ball() -> mesher::Surface {
+    let outer = icosphere(2);
+    let mut s = outer.clone();
+    let n = outer.vertices.len() as u32;
+    s.vertices.extend(outer.vertices.iter().map(|p| *p * 0.5));
+    s.triangles.extend(
+        outer
+            .triangles
+            .iter()
+            .map(|t| [t[0] + n, t[2] + n, t[1] + n]),
+    );
+    s
+}
+
+#[test]
+fn nested_shells_leave_the_hole_empty() {
+    let surface = hollow_ball();
+    let input = measure_input(&surface);
+    let mut runners: Vec<Box<dyn Runner>> = Vec::new();
+    if peer_present("tetgen", tetgen_installed()) {
+        runners.push(Box::new(TetGen::keep_boundary()));
+    }
+    if peer_present("gmsh (venv)", venv_has("gmsh")) {
+        runners.push(Box::new(Gmsh::hxt()));
+    }
+    for r in runners {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("hollow.off");
+        mesher::io::write_surface(&path, &surface).unwrap();
+        let req = RunRequest {
+            model: "hollow",
+            input: &path,
+            workdir: dir.path(),
+            timeout: Duration::from_secs(120),
+            edge_length: 0.1,
+        };
+        let out = r
+            .run(&req)
+            .unwrap_or_else(|e| panic!("{}: {e}", r.info().id));
+        let mesh = mesher::io::read_volume(&out.mesh).unwrap();
+        let m = measure_output(&input, &surface, mesh, true).unwrap();
+        let ratio = m.validity.volume_ratio.unwrap();
+        assert!(
+            (ratio - 1.0).abs() < 1e-9,
+            "{}: volume ratio {ratio}",
+            r.info().id
+        );
+        assert_eq!(m.validity.boundary_kept, Some(true), "{}", r.info().id);
+    }
+}
