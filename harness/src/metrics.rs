@@ -163,6 +163,42 @@ pub fn measure_output(
     })
 }
 
+/// The boundary of a tet mesh: every face used by exactly one tet, as a surface over the
+/// vertices it uses, oriented as the tets are (for the Hausdorff distance of peers that move the boundary; interior
+/// vertices are dropped so that vertex sampling sees only the boundary).
+pub fn boundary_surface(mesh: &VolumeMesh) -> Surface {
+    let counts = face_counts(&mesh.tets);
+    // Faces of tet (0,1,2,3), outward when it is positively oriented.
+    const FACES: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
+    let mut faces = Vec::new();
+    for t in &mesh.tets {
+        for f in FACES {
+            let face = f.map(|i| t[i]);
+            let mut key = face;
+            key.sort_unstable();
+            if counts.get(&key) == Some(&1) {
+                faces.push(face);
+            }
+        }
+    }
+    let mut new_id = vec![u32::MAX; mesh.vertices.len()];
+    let mut vertices = Vec::new();
+    for f in &mut faces {
+        for v in f.iter_mut() {
+            let slot = &mut new_id[*v as usize];
+            if *slot == u32::MAX {
+                *slot = vertices.len() as u32;
+                vertices.push(mesh.vertices[*v as usize]);
+            }
+            *v = *slot;
+        }
+    }
+    Surface {
+        vertices,
+        triangles: faces,
+    }
+}
+
 /// Flips every tet (swaps its last two vertices) when more tets are negatively than
 /// positively oriented; returns whether it did.
 pub fn normalise_orientation(mesh: &mut VolumeMesh) -> bool {

@@ -225,8 +225,12 @@ fn measure(
             )
         }
     };
+    let moved_boundary = (!keeps).then(|| metrics::boundary_surface(&mesh));
     match metrics::measure_output(input, surface, mesh, keeps) {
-        Ok(m) => {
+        Ok(mut m) => {
+            if let Some(b) = moved_boundary {
+                m.validity.hausdorff = relative_hausdorff(work, surface, &b);
+            }
             rec.vertices = Some(m.vertices);
             rec.tets = Some(m.tets);
             rec.quality = Some(m.quality);
@@ -237,6 +241,37 @@ fn measure(
         }
         Err(e) => finish(rec, Status::InvalidOutput, Some(e)),
     }
+}
+
+/// Two-sided Hausdorff distance between the input and an output boundary, relative to
+/// the input's bounding-box diagonal, through `scripts/surface_check.py` (pymeshlab);
+/// `None` when pymeshlab is unavailable or fails.
+fn relative_hausdorff(work: &Path, input: &Surface, boundary: &Surface) -> Option<f64> {
+    let (a, b) = (
+        work.join("hausdorff_input.off"),
+        work.join("hausdorff_output.off"),
+    );
+    mesher::io::write_surface(&a, input).ok()?;
+    mesher::io::write_surface(&b, boundary).ok()?;
+    let python = crate::runners::venv_python();
+    let script = crate::runners::project_root().join("scripts/surface_check.py");
+    let mut cmd = std::process::Command::new(python);
+    // The child runs in `work`: name the files relative to it.
+    cmd.arg(script).args([
+        "--input",
+        "hausdorff_input.off",
+        "--output",
+        "hausdorff_output.off",
+    ]);
+    let stats =
+        crate::runners::process::run_measured(cmd, work, "surface_check", Duration::from_secs(600))
+            .ok()?;
+    if stats.exit_code != Some(0) {
+        return None;
+    }
+    let text = std::fs::read_to_string(work.join("surface_check.stdout")).ok()?;
+    let v: serde_json::Value = serde_json::from_str(&text).ok()?;
+    v["relative"].as_f64()
 }
 
 fn set_stats(rec: &mut Record, s: &crate::runners::ProcessStats) {

@@ -131,3 +131,19 @@ fn sizes_follow_notes_section_3() {
     let n = nearest_sizes(&s, &h, &q);
     assert_eq!(n, vec![h[0], h[1], h[2]]);
 }
+
+#[test]
+fn boundary_surface_drops_interior_faces_and_vertices() {
+    let p = regular();
+    // Split the regular tet at its centroid into 4 tets: the boundary is the 4 outer faces.
+    let mut pts = p.to_vec();
+    pts.push(Point::ZERO);
+    let m = mesh(
+        &pts,
+        vec![[4, 1, 2, 3], [0, 4, 2, 3], [0, 1, 4, 3], [0, 1, 2, 4]],
+    );
+    let b = harness::metrics::boundary_surface(&m);
+    assert_eq!(b.triangles.len(), 4);
+    assert_eq!(b.vertices.len(), 4);
+    assert!(b.check().is_clean());
+}
