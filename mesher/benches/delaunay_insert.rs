@@ -1,8 +1,9 @@
 //! Criterion bench of the Delaunay kernel: uniform random points (10^4, 10^5, 10^6) and
 //! the vertices of a real surface when one is available.
 //!
-//! `cargo bench -p mesher --bench delaunay_insert`; set `MESHER_BENCH_SURFACE=path.off`
-//! to add a surface's vertices, `MESHER_BENCH_MAX=100000` to skip the 10^6 case.
+//! `cargo bench -p mesher --bench delaunay_insert`. The surface case uses CGAL's
+//! armadillo from the corpus cache (`scripts/fetch-corpus.sh`) or `MESHER_BENCH_SURFACE`;
+//! `MESHER_BENCH_MAX=100000` skips the 10^6 case.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use mesher::delaunay::{sort::SplitMix64, triangulate, DelaunayOptions};
@@ -32,19 +33,29 @@ fn bench_uniform(c: &mut Criterion) {
             b.iter(|| triangulate(pts, &DelaunayOptions::default()).map(|t| t.mesh.num_slots()))
         });
     }
-    if let Ok(path) = std::env::var("MESHER_BENCH_SURFACE") {
+    let default_surface = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../corpus/cache/cgal/meshes/armadillo.off"
+    );
+    let path = std::env::var("MESHER_BENCH_SURFACE").unwrap_or_else(|_| default_surface.into());
+    if std::path::Path::new(&path).is_file() {
         match mesher::io::read_surface(std::path::Path::new(&path)) {
             Ok(s) => {
                 let pts = s.surface.vertices;
+                let name = std::path::Path::new(&path)
+                    .file_stem()
+                    .map_or_else(|| path.clone(), |s| s.to_string_lossy().into_owned());
                 g.throughput(Throughput::Elements(pts.len() as u64));
-                g.bench_with_input(BenchmarkId::new("surface", &path), &pts, |b, pts| {
+                g.bench_with_input(BenchmarkId::new("surface", name), &pts, |b, pts| {
                     b.iter(|| {
                         triangulate(pts, &DelaunayOptions::default()).map(|t| t.mesh.num_slots())
                     })
                 });
             }
-            Err(e) => eprintln!("MESHER_BENCH_SURFACE: {e}"),
+            Err(e) => eprintln!("{path}: {e}"),
         }
+    } else {
+        eprintln!("no surface for the surface case: run scripts/fetch-corpus.sh");
     }
     g.finish();
 }

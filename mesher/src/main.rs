@@ -149,7 +149,7 @@ fn read_points(input: &Path) -> Result<Vec<mesher::Point>> {
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("node"));
     if is_node {
-        Ok(mesher::io::points::read_node_points(input)?)
+        Ok(mesher::io::tetgen::read_points(input)?)
     } else {
         Ok(mesher::io::read_surface_unwelded(input)?.vertices)
     }

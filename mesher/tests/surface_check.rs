@@ -2,7 +2,6 @@
 //! timing test on a large icosphere.
 
 use mesher::{Point, Surface};
-use std::collections::HashMap;
 
 fn p(x: f64, y: f64, z: f64) -> Point {
     Point::new(x, y, z)
@@ -89,70 +88,7 @@ fn torus(n: u32, m: u32) -> Surface {
 
 /// Icosphere: the icosahedron subdivided `level` times (20 * 4^level faces), outward.
 pub fn icosphere(level: u32) -> Surface {
-    let g = (1.0 + 5f64.sqrt()) / 2.0;
-    let mut vertices: Vec<Point> = [
-        (-1.0, g, 0.0),
-        (1.0, g, 0.0),
-        (-1.0, -g, 0.0),
-        (1.0, -g, 0.0),
-        (0.0, -1.0, g),
-        (0.0, 1.0, g),
-        (0.0, -1.0, -g),
-        (0.0, 1.0, -g),
-        (g, 0.0, -1.0),
-        (g, 0.0, 1.0),
-        (-g, 0.0, -1.0),
-        (-g, 0.0, 1.0),
-    ]
-    .iter()
-    .map(|&(x, y, z)| p(x, y, z).normalize())
-    .collect();
-    let mut triangles: Vec<[u32; 3]> = vec![
-        [0, 11, 5],
-        [0, 5, 1],
-        [0, 1, 7],
-        [0, 7, 10],
-        [0, 10, 11],
-        [1, 5, 9],
-        [5, 11, 4],
-        [11, 10, 2],
-        [10, 7, 6],
-        [7, 1, 8],
-        [3, 9, 4],
-        [3, 4, 2],
-        [3, 2, 6],
-        [3, 6, 8],
-        [3, 8, 9],
-        [4, 9, 5],
-        [2, 4, 11],
-        [6, 2, 10],
-        [8, 6, 7],
-        [9, 8, 1],
-    ];
-    for _ in 0..level {
-        let mut mid: HashMap<(u32, u32), u32> = HashMap::new();
-        let mut next = Vec::with_capacity(4 * triangles.len());
-        for t in &triangles {
-            let mut m = [0u32; 3];
-            for k in 0..3 {
-                let (a, b) = (t[k], t[(k + 1) % 3]);
-                m[k] = *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                    vertices
-                        .push(((vertices[a as usize] + vertices[b as usize]) * 0.5).normalize());
-                    vertices.len() as u32 - 1
-                });
-            }
-            next.push([t[0], m[0], m[2]]);
-            next.push([t[1], m[1], m[0]]);
-            next.push([t[2], m[2], m[1]]);
-            next.push([m[0], m[1], m[2]]);
-        }
-        triangles = next;
-    }
-    Surface {
-        vertices,
-        triangles,
-    }
+    mesher::surface::generate::icosphere(level)
 }
 
 #[test]

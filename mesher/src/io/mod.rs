@@ -18,7 +18,6 @@ mod gmsh_binary;
 pub mod medit;
 pub mod obj;
 pub mod off;
-pub mod points;
 pub mod stl;
 pub mod tetgen;
 mod text;

@@ -53,6 +53,22 @@ pub fn parse(
     Ok(m)
 }
 
+/// Parses a `.node` file alone: the point set of `mesher delaunay`.
+pub fn parse_points(name: &str, text: &str) -> Result<Vec<crate::geom::Point>, IoError> {
+    let mut m = VolumeMesh::default();
+    parse_node(name, text, &mut m)?;
+    Ok(m.vertices)
+}
+
+/// Reads a `.node` file alone (see [`parse_points`]).
+pub fn read_points(path: &Path) -> Result<Vec<crate::geom::Point>, IoError> {
+    let bytes = read_bytes(path)?;
+    parse_points(
+        &path.display().to_string(),
+        &String::from_utf8_lossy(&bytes),
+    )
+}
+
 /// Reads the nodes; returns the numbering base (index of the first node).
 fn parse_node(name: &str, text: &str, m: &mut VolumeMesh) -> Result<i64, IoError> {
     let mut lines = Lines::new(name, text, Some('#'));
@@ -301,5 +317,21 @@ mod tests {
             sibling(Path::new("a/cube.1"), "ele"),
             Path::new("a/cube.1.ele")
         );
+    }
+
+    #[test]
+    fn points_alone_with_comments_and_line_errors() {
+        let p = parse_points(
+            "a.node",
+            "# pts\n3 3 1 0\n1 0 0 0 7\n2 1 0 0 7 # x\n\n3 0 1.5e0 0 7\n",
+        )
+        .unwrap();
+        assert_eq!(p.len(), 3);
+        assert_eq!(p[2], crate::geom::Point::new(0.0, 1.5, 0.0));
+        let e = parse_points("b.node", "2 3 0 0\n1 0 0 0\n2 0 x 0\n").unwrap_err();
+        assert!(e.to_string().contains("b.node:3"), "{e}");
+        assert!(parse_points("c.node", "3 3 0 0\n1 0 0 0\n").is_err());
+        assert!(parse_points("d.node", "2 2 0 0\n").is_err());
+        assert!(parse_points("e.node", "").is_err());
     }
 }
