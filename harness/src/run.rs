@@ -8,8 +8,9 @@
 //! unreadable output is a row with a status, never an abort. `--resume` skips pairs
 //! already recorded.
 //!
-//! Models come from [`models`]: explicit `--input` files today; the corpus adapter is the
-//! one place that will switch to `harness::corpus` when it lands.
+//! Models come from [`models`]: explicit `--input` files, else the corpus tier through
+//! the small adapter `corpus_models` (`harness::corpus`: manifest, selection,
+//! materialisation in the cache).
 
 use crate::metrics::{self, InputMeasures};
 use crate::records::{self, Record, Status};
@@ -32,10 +33,12 @@ pub struct Model {
     pub tier: String,
     /// Category (convex, cad, ...; `unknown` for `--input` files).
     pub category: String,
+    /// Why the model's file could not be provided (rows get a status instead of a run).
+    pub error: Option<String>,
 }
 
-/// The models to run: the `--input` files, else the corpus tier (adapter to
-/// `harness::corpus`, pending), filtered by `--models`.
+/// The models to run: the `--input` files, else the corpus tier selection, filtered by
+/// `--models`.
 pub fn models(args: &RunArgs) -> anyhow::Result<Vec<Model>> {
     let mut out: Vec<Model> = if !args.input.is_empty() {
         args.input
@@ -48,19 +51,60 @@ pub fn models(args: &RunArgs) -> anyhow::Result<Vec<Model>> {
                 path: p.clone(),
                 tier: "adhoc".into(),
                 category: "unknown".into(),
+                error: None,
             })
             .collect()
     } else {
-        // TODO: switch to harness::corpus::{load_manifest, select, materialize} when it lands.
-        anyhow::bail!(
-            "corpus tier {:?}: the corpus is not wired into `harness run` yet; pass --input FILE...",
-            args.corpus
-        )
+        corpus_models(&args.corpus)?
     };
     if !args.models.is_empty() {
         out.retain(|m| args.models.contains(&m.id));
     }
     Ok(out)
+}
+
+/// Adapter to `harness::corpus`: the models of a tier selection, materialised in the
+/// cache (a model that cannot be materialised keeps its error and becomes rows with a
+/// status).
+fn corpus_models(tier: &str) -> anyhow::Result<Vec<Model>> {
+    use crate::corpus;
+    let root = corpus::find_repo_root();
+    let all = corpus::load_manifest(&root).context("loading the corpus manifest")?;
+    let chosen = corpus::manifest::select(&all, tier);
+    if chosen.is_empty() {
+        anyhow::bail!(
+            "corpus selection {tier:?} has no model (known: {:?})",
+            corpus::manifest::TIER_SELECTIONS
+        );
+    }
+    Ok(chosen
+        .into_iter()
+        .map(|m| {
+            let (path, error) = match corpus::materialize::materialize(&root, m) {
+                Ok(p) => (p, None),
+                Err(e) => (PathBuf::new(), Some(e.to_string())),
+            };
+            Model {
+                id: m.id.clone(),
+                path,
+                tier: kebab(&format!("{:?}", m.tier)),
+                category: kebab(&format!("{:?}", m.category)),
+                error,
+            }
+        })
+        .collect())
+}
+
+/// `HighGenus` -> `high-genus` (the manifest's spelling of its enum names).
+fn kebab(name: &str) -> String {
+    let mut out = String::new();
+    for (i, c) in name.chars().enumerate() {
+        if c.is_ascii_uppercase() && i > 0 {
+            out.push('-');
+        }
+        out.push(c.to_ascii_lowercase());
+    }
+    out
 }
 
 /// `harness run`.
@@ -140,6 +184,9 @@ impl Context_ {
 type Prepared = Result<(PathBuf, Surface, InputMeasures, f64), String>;
 
 fn prepare(model: &Model) -> Prepared {
+    if let Some(e) = &model.error {
+        return Err(e.clone());
+    }
     let path =
         std::fs::canonicalize(&model.path).map_err(|e| format!("{}: {e}", model.path.display()))?;
     let surface = mesher::io::read_surface(&path)
