@@ -150,7 +150,10 @@ pub fn check_exit(what: &str, stats: ProcessStats) -> Result<ProcessStats, RunEr
     } else if stats.exit_code == Some(0) {
         return Ok(stats);
     } else {
-        format!("{what}: exit code {:?}", stats.exit_code)
+        match stats.exit_code {
+            Some(c) => format!("{what}: exit code {c}"),
+            None => format!("{what}: ended without an exit status"),
+        }
     };
     let message = if stats.stderr_tail.is_empty() {
         how
