@@ -19,16 +19,35 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq "${missing[@]}" >/dev/null
 fi
 
-py_pkgs=(meshio numpy)
-if [ "${1:-}" = "--peers" ]; then
-  py_pkgs+=(gmsh pytetwild pyvista pymeshlab)
+# Python packages, pinned in scripts/requirements.txt: meshio and numpy always; with --peers
+# every line (gmsh, pytetwild, pyvista, pymeshlab). pip runs only when a pin is not met.
+reqs="$root/scripts/requirements.txt"
+mapfile -t py_pkgs < <(grep -v -e '^#' -e '^[[:space:]]*$' "$reqs")
+if [ "${1:-}" != "--peers" ]; then
+  mapfile -t py_pkgs < <(printf '%s\n' "${py_pkgs[@]}" | grep -i -e '^meshio==' -e '^numpy==')
 fi
 if [ ! -x "$venv/bin/python" ]; then
   python3 -m venv "$venv"
 fi
+# gmsh and pymeshlab load the GL/X client libraries at import time.
+if [ "${1:-}" = "--peers" ]; then
+  gl_pkgs=(libglu1-mesa libgl1 libxcursor1 libxft2 libfontconfig1 libxinerama1)
+  gl_missing=()
+  for p in "${gl_pkgs[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || gl_missing+=("$p")
+  done
+  if [ ${#gl_missing[@]} -gt 0 ]; then
+    sudo_cmd=""
+    [ "$(id -u)" -eq 0 ] || sudo_cmd="sudo"
+    echo "setup: installing ${gl_missing[*]}"
+    $sudo_cmd apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq "${gl_missing[@]}" >/dev/null
+  fi
+fi
+frozen="$("$venv/bin/python" -m pip freeze 2>/dev/null | tr '[:upper:]' '[:lower:]')"
 need=()
 for p in "${py_pkgs[@]}"; do
-  "$venv/bin/python" -m pip show -q "$p" >/dev/null 2>&1 || need+=("$p")
+  grep -qx -F "$(echo "$p" | tr '[:upper:]' '[:lower:]')" <<<"$frozen" || need+=("$p")
 done
 if [ ${#need[@]} -gt 0 ]; then
   echo "setup: pip installing ${need[*]}"

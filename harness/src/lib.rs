@@ -5,6 +5,8 @@
 //! Measuring (`run`) is separate from reporting (`report`): reports read records only.
 
 pub mod corpus;
+pub mod metrics;
 pub mod records;
 pub mod report;
+pub mod run;
 pub mod runners;

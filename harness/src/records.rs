@@ -3,6 +3,7 @@
 
 use mesher::quality::{EdgeLengthStats, QualitySummary};
 use serde::{Deserialize, Serialize};
+use std::path::Path;
 
 /// How a run ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -93,4 +94,205 @@ pub struct Record {
     pub machine: String,
     /// UTC time the run finished, RFC 3339.
     pub finished_at: String,
+    /// True when the harness flipped every tet because the peer wrote them negatively
+    /// oriented (fTetWild); `None` when no mesh was measured.
+    #[serde(default)]
+    pub orientation_flipped: Option<bool>,
+    /// Exit code of the child, if it exited.
+    #[serde(default)]
+    pub exit_code: Option<i32>,
+    /// Signal that ended the child, if any.
+    #[serde(default)]
+    pub signal: Option<i32>,
+    /// Seconds the peer spent in its meshing call alone, as its driver script timed it
+    /// (Python peers: without interpreter start-up and file I/O).
+    #[serde(default)]
+    pub mesh_seconds: Option<f64>,
+    /// Mean input edge length handed to peers that need a size (fTetWild).
+    #[serde(default)]
+    pub edge_length: Option<f64>,
+}
+
+impl Record {
+    /// Output tets per wall-clock second.
+    pub fn tets_per_second(&self) -> Option<f64> {
+        match (self.tets, self.wall_seconds) {
+            (Some(t), Some(w)) if w > 0.0 => Some(t as f64 / w),
+            _ => None,
+        }
+    }
+
+    /// Peak RSS bytes per output tet.
+    pub fn bytes_per_tet(&self) -> Option<f64> {
+        match (self.tets, self.peak_rss_bytes) {
+            (Some(t), Some(b)) if t > 0 => Some(b as f64 / t as f64),
+            _ => None,
+        }
+    }
+}
+
+/// Column names of `results.csv`, in order.
+pub const CSV_COLUMNS: &[&str] = &[
+    "model",
+    "tier",
+    "category",
+    "mesher",
+    "mesher_version",
+    "keeps_boundary",
+    "status",
+    "message",
+    "input_vertices",
+    "input_faces",
+    "q_t",
+    "hard_face_fraction",
+    "vertices",
+    "tets",
+    "wall_seconds",
+    "cpu_seconds",
+    "peak_rss_bytes",
+    "mesh_seconds",
+    "tets_per_second",
+    "bytes_per_tet",
+    "worst_q_k",
+    "median_q_k",
+    "mean_q_k",
+    "worse_than_target",
+    "well_shaped",
+    "well_shaped_percent",
+    "min_dihedral",
+    "max_dihedral",
+    "min_radius_ratio",
+    "degenerate",
+    "edge_length_mean",
+    "edge_length_mean_quality",
+    "edge_length_min",
+    "edge_length_max",
+    "inverted",
+    "non_manifold_faces",
+    "boundary_kept",
+    "volume_ratio",
+    "hausdorff",
+    "orientation_flipped",
+    "exit_code",
+    "signal",
+    "iterations",
+    "git_revision",
+    "machine",
+    "finished_at",
+];
+
+fn opt<T: ToString>(v: Option<T>) -> String {
+    v.map(|x| x.to_string()).unwrap_or_default()
+}
+
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}
+
+impl Record {
+    /// The record as one CSV row (fields in [`CSV_COLUMNS`] order, RFC 4180 quoting).
+    pub fn csv_row(&self) -> String {
+        let q = self.quality.as_ref();
+        let e = self.edge_lengths.as_ref();
+        let v = self.validity.as_ref();
+        let status = serde_json::to_value(self.status)
+            .ok()
+            .and_then(|s| s.as_str().map(String::from))
+            .unwrap_or_default();
+        let fields: Vec<String> = vec![
+            self.model.clone(),
+            self.tier.clone(),
+            self.category.clone(),
+            self.mesher.clone(),
+            self.mesher_version.clone(),
+            self.keeps_boundary.to_string(),
+            status,
+            self.message.clone().unwrap_or_default(),
+            self.input_vertices.to_string(),
+            self.input_faces.to_string(),
+            opt(self.q_t),
+            opt(self.hard_face_fraction),
+            opt(self.vertices),
+            opt(self.tets),
+            opt(self.wall_seconds),
+            opt(self.cpu_seconds),
+            opt(self.peak_rss_bytes),
+            opt(self.mesh_seconds),
+            opt(self.tets_per_second()),
+            opt(self.bytes_per_tet()),
+            opt(q.map(|q| q.worst_q_k)),
+            opt(q.map(|q| q.median_q_k)),
+            opt(q.map(|q| q.mean_q_k)),
+            opt(q.and_then(|q| q.worse_than_target)),
+            opt(q.map(|q| q.well_shaped)),
+            opt(q.map(|q| q.well_shaped_percent)),
+            opt(q.map(|q| q.min_dihedral)),
+            opt(q.map(|q| q.max_dihedral)),
+            opt(q.map(|q| q.min_radius_ratio)),
+            opt(q.map(|q| q.degenerate)),
+            opt(e.map(|e| e.mean)),
+            opt(e.map(|e| e.mean_quality)),
+            opt(e.map(|e| e.min)),
+            opt(e.map(|e| e.max)),
+            opt(v.map(|v| v.inverted)),
+            opt(v.map(|v| v.non_manifold_faces)),
+            opt(v.and_then(|v| v.boundary_kept)),
+            opt(v.and_then(|v| v.volume_ratio)),
+            opt(v.and_then(|v| v.hausdorff)),
+            opt(self.orientation_flipped),
+            opt(self.exit_code),
+            opt(self.signal),
+            opt(self.iterations),
+            self.git_revision.clone(),
+            self.machine.clone(),
+            self.finished_at.clone(),
+        ];
+        fields
+            .iter()
+            .map(|f| csv_field(f))
+            .collect::<Vec<_>>()
+            .join(",")
+    }
+}
+
+/// Reads `results.jsonl` (missing file = no records; unreadable lines are skipped).
+pub fn read_jsonl(path: &Path) -> std::io::Result<Vec<Record>> {
+    match std::fs::read_to_string(path) {
+        Ok(text) => Ok(text
+            .lines()
+            .filter_map(|l| serde_json::from_str(l).ok())
+            .collect()),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(Vec::new()),
+        Err(e) => Err(e),
+    }
+}
+
+/// Writes `dir/results.jsonl` and `dir/results.csv` with all `records`, each through a
+/// temporary file renamed over the old one, so a killed run never leaves a torn file.
+pub fn write_all(dir: &Path, records: &[Record]) -> std::io::Result<()> {
+    let mut jsonl = String::new();
+    for r in records {
+        jsonl.push_str(&serde_json::to_string(r).map_err(std::io::Error::other)?);
+        jsonl.push('\n');
+    }
+    let mut csv = CSV_COLUMNS.join(",");
+    csv.push('\n');
+    for r in records {
+        csv.push_str(&r.csv_row());
+        csv.push('\n');
+    }
+    write_atomic(&dir.join("results.jsonl"), &jsonl)?;
+    write_atomic(&dir.join("results.csv"), &csv)
+}
+
+fn write_atomic(path: &Path, text: &str) -> std::io::Result<()> {
+    let mut name = path.file_name().unwrap_or_default().to_os_string();
+    name.push(".tmp");
+    let tmp = path.with_file_name(name);
+    std::fs::write(&tmp, text)?;
+    std::fs::rename(&tmp, path)
 }

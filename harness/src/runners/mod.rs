@@ -2,7 +2,19 @@
 //! runs it as a measured child process, and returns the output path; the harness then
 //! measures the output itself (never trusting a peer's statistics).
 
+//!
+//! Submodules: [`process`] (the measured child), one module per peer ([`tetgen`],
+//! [`gmsh`], [`ftetwild`], [`ours`]; CGAL Mesh_3 lives in `cgal.rs`), and [`input`]
+//! (the input surface as each peer is handed it: shells, nesting, hole points).
+//! [`registry`] lists every runner; `harness run` is in [`crate::run`].
+
 pub mod cgal;
+pub mod ftetwild;
+pub mod gmsh;
+pub mod input;
+pub mod ours;
+pub mod process;
+pub mod tetgen;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -91,18 +103,71 @@ pub trait Runner {
     fn run(&self, request: &RunRequest<'_>) -> Result<RunOutput, RunError>;
 }
 
+/// Every runner, in table order. CGAL Mesh_3 (`cgal.rs`) adds itself here.
+pub fn registry() -> Vec<Box<dyn Runner>> {
+    vec![
+        Box::new(ours::Ours),
+        Box::new(tetgen::TetGen::default_switches()),
+        Box::new(tetgen::TetGen::keep_boundary()),
+        Box::new(gmsh::Gmsh::hxt()),
+        Box::new(gmsh::Gmsh::delaunay()),
+        Box::new(ftetwild::FTetWild),
+        Box::new(cgal::CgalMesh3::new(
+            cgal::CgalMesh3::locate().unwrap_or_else(|| PathBuf::from("cgal-mesh3")),
+        )),
+    ]
+}
+
+/// The project root (scripts/, .venv/): `HARNESS_ROOT` if set, else the workspace this
+/// crate was built from.
+pub fn project_root() -> PathBuf {
+    match std::env::var_os("HARNESS_ROOT") {
+        Some(r) => PathBuf::from(r),
+        None => Path::new(env!("CARGO_MANIFEST_DIR"))
+            .parent()
+            .map(Path::to_path_buf)
+            .unwrap_or_else(|| PathBuf::from(".")),
+    }
+}
+
+/// The venv's Python (`MESHER_VENV` or `<root>/.venv`), as `scripts/setup.sh` makes it.
+pub fn venv_python() -> PathBuf {
+    let venv = std::env::var_os("MESHER_VENV")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| project_root().join(".venv"));
+    venv.join("bin").join("python")
+}
+
 /// Arguments of `harness run`.
 #[derive(clap::Args, Debug)]
 pub struct RunArgs {
     /// Corpus tier to run (ci, nightly, large, dirty).
     #[arg(long, default_value = "ci")]
     pub corpus: String,
-    /// Output directory for results.
+    /// Output directory for results (default `reports/runs/<UTC stamp>`).
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Comma-separated runner ids (default: every registered runner).
+    #[arg(long, value_delimiter = ',')]
+    pub meshers: Vec<String>,
+    /// Comma-separated model ids to keep (default: every model of the tier).
+    #[arg(long, value_delimiter = ',')]
+    pub models: Vec<String>,
+    /// Skip (model, mesher) pairs already recorded in `OUT/results.jsonl`.
+    #[arg(long)]
+    pub resume: bool,
+    /// Per-run time limit, seconds.
+    #[arg(long, default_value_t = 600.0)]
+    pub timeout: f64,
+    /// Explicit surface files to run instead of corpus models (model id = file stem).
+    #[arg(long, num_args = 1..)]
+    pub input: Vec<PathBuf>,
+    /// Keep each run's work directory (output meshes, logs) under `OUT/work`.
+    #[arg(long)]
+    pub keep_meshes: bool,
 }
 
 /// `harness run`.
-pub fn cli(_args: RunArgs) -> anyhow::Result<ExitCode> {
-    anyhow::bail!("harness run: not implemented yet")
+pub fn cli(args: RunArgs) -> anyhow::Result<ExitCode> {
+    crate::run::cli(args)
 }

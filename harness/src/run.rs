@@ -1,0 +1,450 @@
+//! `harness run`: every selected model × mesher, measured and recorded.
+//!
+//! For each model the input surface is read and measured once ([`metrics::measure_input`]);
+//! each runner runs in its own work directory `OUT/work/<model>/<mesher>`; its output is
+//! read with `mesher::io::read_volume` and measured ([`metrics::measure_output`]). Every
+//! run ends in one [`Record`] appended to `OUT/results.jsonl` and `OUT/results.csv`
+//! (rewritten atomically after each row). A missing peer, a crash, a timeout or an
+//! unreadable output is a row with a status, never an abort. `--resume` skips pairs
+//! already recorded.
+//!
+//! Models come from [`models`]: explicit `--input` files, else the corpus tier through
+//! the small adapter `corpus_models` (`harness::corpus`: manifest, selection,
+//! materialisation in the cache).
+
+use crate::metrics::{self, InputMeasures};
+use crate::records::{self, Record, Status};
+use crate::runners::{registry, RunArgs, RunError, RunOutput, RunRequest, Runner};
+use anyhow::Context;
+use mesher::Surface;
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Duration;
+
+/// One model to run.
+#[derive(Clone, Debug)]
+pub struct Model {
+    /// Id used in records.
+    pub id: String,
+    /// Surface file.
+    pub path: PathBuf,
+    /// Tier (ci, nightly, large, dirty; `adhoc` for `--input` files).
+    pub tier: String,
+    /// Category (convex, cad, ...; `unknown` for `--input` files).
+    pub category: String,
+    /// Why the model's file could not be provided (rows get a status instead of a run).
+    pub error: Option<String>,
+}
+
+/// The models to run: the `--input` files, else the corpus tier selection, filtered by
+/// `--models`.
+pub fn models(args: &RunArgs) -> anyhow::Result<Vec<Model>> {
+    let mut out: Vec<Model> = if !args.input.is_empty() {
+        args.input
+            .iter()
+            .map(|p| Model {
+                id: p
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_default(),
+                path: p.clone(),
+                tier: "adhoc".into(),
+                category: "unknown".into(),
+                error: None,
+            })
+            .collect()
+    } else {
+        corpus_models(&args.corpus)?
+    };
+    if !args.models.is_empty() {
+        out.retain(|m| args.models.contains(&m.id));
+    }
+    Ok(out)
+}
+
+/// Adapter to `harness::corpus`: the models of a tier selection, materialised in the
+/// cache (a model that cannot be materialised keeps its error and becomes rows with a
+/// status).
+fn corpus_models(tier: &str) -> anyhow::Result<Vec<Model>> {
+    use crate::corpus;
+    let root = corpus::find_repo_root();
+    let all = corpus::load_manifest(&root).context("loading the corpus manifest")?;
+    let chosen = corpus::manifest::select(&all, tier);
+    if chosen.is_empty() {
+        anyhow::bail!(
+            "corpus selection {tier:?} has no model (known: {:?})",
+            corpus::manifest::TIER_SELECTIONS
+        );
+    }
+    Ok(chosen
+        .into_iter()
+        .map(|m| {
+            let (path, error) = match corpus::materialize::materialize(&root, m) {
+                Ok(p) => (p, None),
+                Err(e) => (PathBuf::new(), Some(e.to_string())),
+            };
+            Model {
+                id: m.id.clone(),
+                path,
+                tier: kebab(&format!("{:?}", m.tier)),
+                category: kebab(&format!("{:?}", m.category)),
+                error,
+            }
+        })
+        .collect())
+}
+
+/// `HighGenus` -> `high-genus` (the manifest's spelling of its enum names).
+fn kebab(name: &str) -> String {
+    let mut out = String::new();
+    for (i, c) in name.chars().enumerate() {
+        if c.is_ascii_uppercase() && i > 0 {
+            out.push('-');
+        }
+        out.push(c.to_ascii_lowercase());
+    }
+    out
+}
+
+/// `harness run`.
+pub fn cli(args: RunArgs) -> anyhow::Result<ExitCode> {
+    let models = models(&args)?;
+    let runners = select_runners(&args.meshers)?;
+    let out = args.out.clone().unwrap_or_else(default_out_dir);
+    std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
+    let mut rows = if args.resume {
+        records::read_jsonl(&out.join("results.jsonl")).context("reading results.jsonl")?
+    } else {
+        Vec::new()
+    };
+    let done: HashSet<(String, String)> = rows
+        .iter()
+        .map(|r| (r.model.clone(), r.mesher.clone()))
+        .collect();
+    let ctx = Context_::new(Duration::from_secs_f64(args.timeout.max(0.001)));
+    for model in &models {
+        let todo: Vec<&dyn Runner> = runners
+            .iter()
+            .map(|r| r.as_ref())
+            .filter(|r| !done.contains(&(model.id.clone(), r.info().id.to_string())))
+            .collect();
+        if todo.is_empty() {
+            continue;
+        }
+        let prepared = prepare(model);
+        for runner in todo {
+            let work = out.join("work").join(&model.id).join(runner.info().id);
+            let row = run_one(&ctx, model, &prepared, runner, &work);
+            eprintln!("{:<24} {:<14} {}", model.id, row.mesher, summary_line(&row));
+            rows.push(row);
+            records::write_all(&out, &rows).context("writing results")?;
+            if !args.keep_meshes {
+                let _ = std::fs::remove_dir_all(&work);
+            }
+        }
+    }
+    eprintln!("harness run: {} records in {}", rows.len(), out.display());
+    Ok(ExitCode::SUCCESS)
+}
+
+fn select_runners(ids: &[String]) -> anyhow::Result<Vec<Box<dyn Runner>>> {
+    let all = registry();
+    if ids.is_empty() {
+        return Ok(all);
+    }
+    let known: Vec<&str> = all.iter().map(|r| r.info().id).collect();
+    if let Some(bad) = ids.iter().find(|id| !known.contains(&id.as_str())) {
+        anyhow::bail!("unknown mesher {bad:?}; known: {}", known.join(", "));
+    }
+    Ok(all
+        .into_iter()
+        .filter(|r| ids.iter().any(|id| id == r.info().id))
+        .collect())
+}
+
+/// Run-wide facts put in every record.
+struct Context_ {
+    timeout: Duration,
+    git_revision: String,
+    machine: String,
+}
+
+impl Context_ {
+    fn new(timeout: Duration) -> Context_ {
+        Context_ {
+            timeout,
+            git_revision: git_revision(),
+            machine: machine(),
+        }
+    }
+}
+
+/// A model's input, read and measured once for all runners.
+type Prepared = Result<(PathBuf, Surface, InputMeasures, f64), String>;
+
+fn prepare(model: &Model) -> Prepared {
+    if let Some(e) = &model.error {
+        return Err(e.clone());
+    }
+    let path =
+        std::fs::canonicalize(&model.path).map_err(|e| format!("{}: {e}", model.path.display()))?;
+    let surface = mesher::io::read_surface(&path)
+        .map_err(|e| format!("reading the input: {e}"))?
+        .surface;
+    let measures = metrics::measure_input(&surface);
+    let h = crate::runners::input::mean_edge_length(&surface);
+    Ok((path, surface, measures, h))
+}
+
+fn run_one(
+    ctx: &Context_,
+    model: &Model,
+    prepared: &Prepared,
+    runner: &dyn Runner,
+    work: &Path,
+) -> Record {
+    let info = runner.info();
+    let mut rec = blank_record(ctx, model, &info);
+    let (path, surface, input, h) = match prepared {
+        Ok(p) => p,
+        Err(e) => return finish(rec, Status::InvalidOutput, Some(format!("input: {e}"))),
+    };
+    rec.input_vertices = surface.vertices.len();
+    rec.input_faces = surface.triangles.len();
+    rec.q_t = Some(input.q_t);
+    rec.hard_face_fraction = Some(input.hard_face_fraction);
+    rec.edge_length = Some(*h);
+    let _ = std::fs::remove_dir_all(work);
+    if let Err(e) = std::fs::create_dir_all(work) {
+        return finish(
+            rec,
+            Status::Failed,
+            Some(format!("{}: {e}", work.display())),
+        );
+    }
+    let req = RunRequest {
+        model: &model.id,
+        input: path,
+        workdir: work,
+        timeout: ctx.timeout,
+        edge_length: *h,
+    };
+    match runner.run(&req) {
+        Ok(out) => measure(rec, &out, surface, input, info.keeps_boundary, work),
+        Err(RunError::Missing(m)) => finish(rec, Status::Missing, Some(m)),
+        Err(RunError::Io(m)) => finish(rec, Status::InvalidOutput, Some(m)),
+        Err(RunError::Failed { message, stats }) => {
+            let status = if stats.timed_out {
+                Status::Timeout
+            } else if stats.signal.is_some() {
+                Status::Crashed
+            } else {
+                Status::Failed
+            };
+            set_stats(&mut rec, &stats);
+            finish(rec, status, Some(message))
+        }
+    }
+}
+
+fn measure(
+    mut rec: Record,
+    out: &RunOutput,
+    surface: &Surface,
+    input: &InputMeasures,
+    keeps: bool,
+    work: &Path,
+) -> Record {
+    rec.mesher_version = out.version.clone();
+    set_stats(&mut rec, &out.stats);
+    rec.mesh_seconds = std::fs::read_to_string(work.join("meta.json"))
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+        .and_then(|m| m["mesh_seconds"].as_f64());
+    let mesh = match mesher::io::read_volume(&out.mesh) {
+        Ok(m) => m,
+        Err(e) => {
+            return finish(
+                rec,
+                Status::InvalidOutput,
+                Some(format!("reading the output: {e}")),
+            )
+        }
+    };
+    let moved_boundary = (!keeps).then(|| metrics::boundary_surface(&mesh));
+    match metrics::measure_output(input, surface, mesh, keeps) {
+        Ok(mut m) => {
+            if let Some(b) = moved_boundary {
+                m.validity.hausdorff = relative_hausdorff(work, surface, &b);
+            }
+            rec.vertices = Some(m.vertices);
+            rec.tets = Some(m.tets);
+            rec.quality = Some(m.quality);
+            rec.edge_lengths = Some(m.edge_lengths);
+            rec.validity = Some(m.validity);
+            rec.orientation_flipped = Some(m.orientation_flipped);
+            finish(rec, Status::Ok, None)
+        }
+        Err(e) => finish(rec, Status::InvalidOutput, Some(e)),
+    }
+}
+
+/// Two-sided Hausdorff distance between the input and an output boundary, relative to
+/// the input's bounding-box diagonal, through `scripts/surface_check.py` (pymeshlab);
+/// `None` when pymeshlab is unavailable or fails.
+fn relative_hausdorff(work: &Path, input: &Surface, boundary: &Surface) -> Option<f64> {
+    let (a, b) = (
+        work.join("hausdorff_input.off"),
+        work.join("hausdorff_output.off"),
+    );
+    mesher::io::write_surface(&a, input).ok()?;
+    mesher::io::write_surface(&b, boundary).ok()?;
+    let python = crate::runners::venv_python();
+    let script = crate::runners::project_root().join("scripts/surface_check.py");
+    let mut cmd = std::process::Command::new(python);
+    // The child runs in `work`: name the files relative to it.
+    cmd.arg(script).args([
+        "--input",
+        "hausdorff_input.off",
+        "--output",
+        "hausdorff_output.off",
+    ]);
+    let stats =
+        crate::runners::process::run_measured(cmd, work, "surface_check", Duration::from_secs(600))
+            .ok()?;
+    if stats.exit_code != Some(0) {
+        return None;
+    }
+    let text = std::fs::read_to_string(work.join("surface_check.stdout")).ok()?;
+    let v: serde_json::Value = serde_json::from_str(&text).ok()?;
+    v["relative"].as_f64()
+}
+
+fn set_stats(rec: &mut Record, s: &crate::runners::ProcessStats) {
+    rec.wall_seconds = Some(s.wall_seconds);
+    rec.cpu_seconds = Some(s.cpu_seconds);
+    rec.peak_rss_bytes = Some(s.peak_rss_bytes);
+    rec.exit_code = s.exit_code;
+    rec.signal = s.signal;
+}
+
+fn blank_record(ctx: &Context_, model: &Model, info: &crate::runners::PeerInfo) -> Record {
+    Record {
+        model: model.id.clone(),
+        tier: model.tier.clone(),
+        category: model.category.clone(),
+        mesher: info.id.to_string(),
+        mesher_version: String::new(),
+        keeps_boundary: info.keeps_boundary,
+        status: Status::Ok,
+        message: None,
+        input_vertices: 0,
+        input_faces: 0,
+        q_t: None,
+        hard_face_fraction: None,
+        vertices: None,
+        tets: None,
+        wall_seconds: None,
+        cpu_seconds: None,
+        peak_rss_bytes: None,
+        quality: None,
+        edge_lengths: None,
+        validity: None,
+        iterations: None,
+        git_revision: ctx.git_revision.clone(),
+        machine: ctx.machine.clone(),
+        finished_at: String::new(),
+        orientation_flipped: None,
+        exit_code: None,
+        signal: None,
+        mesh_seconds: None,
+        edge_length: None,
+    }
+}
+
+fn finish(mut rec: Record, status: Status, message: Option<String>) -> Record {
+    rec.status = status;
+    rec.message = message;
+    rec.finished_at = rfc3339_now();
+    rec
+}
+
+fn summary_line(r: &Record) -> String {
+    match (&r.quality, r.wall_seconds) {
+        (Some(q), Some(w)) if r.status == Status::Ok => format!(
+            "ok  {} tets  {:.2} s  worst Q_K {:.3}  {:.1} % Q_K<3",
+            q.count, w, q.worst_q_k, q.well_shaped_percent
+        ),
+        _ => format!(
+            "{:?}: {}",
+            r.status,
+            r.message
+                .as_deref()
+                .unwrap_or("")
+                .lines()
+                .next()
+                .unwrap_or("")
+        ),
+    }
+}
+
+fn default_out_dir() -> PathBuf {
+    let stamp: String = rfc3339_now()
+        .chars()
+        .filter(|c| c.is_ascii_alphanumeric())
+        .collect();
+    PathBuf::from("reports/runs").join(stamp)
+}
+
+fn git_revision() -> String {
+    let out = std::process::Command::new("git")
+        .args(["describe", "--always", "--dirty"])
+        .current_dir(crate::runners::project_root())
+        .output();
+    match out {
+        Ok(o) if o.status.success() => String::from_utf8_lossy(&o.stdout).trim().to_string(),
+        _ => "unknown".into(),
+    }
+}
+
+fn machine() -> String {
+    let cpus = std::thread::available_parallelism()
+        .map(|n| n.get())
+        .unwrap_or(0);
+    let model = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|t| {
+            t.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|s| s.trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown cpu".into());
+    format!("{cpus} cpus, {model}")
+}
+
+/// Current UTC time as `YYYY-MM-DDTHH:MM:SSZ`.
+pub fn rfc3339_now() -> String {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_secs() as i64)
+        .unwrap_or(0);
+    let (days, rem) = (secs.div_euclid(86_400), secs.rem_euclid(86_400));
+    // Civil date from days since 1970-01-01 (Howard Hinnant's algorithm).
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = yoe + era * 400 + i64::from(m <= 2);
+    format!(
+        "{y:04}-{m:02}-{d:02}T{:02}:{:02}:{:02}Z",
+        rem / 3600,
+        rem / 60 % 60,
+        rem % 60
+    )
+}

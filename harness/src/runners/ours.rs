@@ -1,0 +1,77 @@
+//! Our mesher: `mesher mesh INPUT -o OUTPUT.mesh`. Reported as not available until the
+//! `mesh` subcommand exists (`mesher mesh --help` fails).
+//!
+//! The binary is the `mesher` beside the running `harness` executable (same cargo target
+//! directory), or `MESHER_BIN` if set.
+
+use super::process::{check_exit, run_measured};
+use super::{PeerInfo, RunError, RunOutput, RunRequest, Runner};
+use std::path::PathBuf;
+use std::process::{Command, Stdio};
+
+/// The project's own mesher.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Ours;
+
+/// Path of the `mesher` binary.
+pub fn mesher_binary() -> PathBuf {
+    if let Some(p) = std::env::var_os("MESHER_BIN") {
+        return PathBuf::from(p);
+    }
+    std::env::current_exe()
+        .ok()
+        .and_then(|exe| {
+            // Test binaries live in target/<profile>/deps; the CLI in target/<profile>.
+            let dir = exe.parent()?;
+            let dir = if dir.ends_with("deps") {
+                dir.parent()?
+            } else {
+                dir
+            };
+            Some(dir.join("mesher"))
+        })
+        .unwrap_or_else(|| PathBuf::from("mesher"))
+}
+
+/// True when `mesher mesh --help` succeeds.
+pub fn available() -> bool {
+    Command::new(mesher_binary())
+        .args(["mesh", "--help"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .map(|s| s.success())
+        .unwrap_or(false)
+}
+
+impl Runner for Ours {
+    fn info(&self) -> PeerInfo {
+        PeerInfo {
+            id: "ours",
+            name: "ours",
+            keeps_boundary: true,
+        }
+    }
+
+    fn run(&self, req: &RunRequest<'_>) -> Result<RunOutput, RunError> {
+        if !available() {
+            return Err(RunError::Missing("`mesher mesh` does not exist yet".into()));
+        }
+        let mesh = req.workdir.join("out.mesh");
+        let mut cmd = Command::new(mesher_binary());
+        cmd.arg("mesh").arg(req.input).arg("-o").arg(&mesh);
+        let stats = run_measured(cmd, req.workdir, "mesher", req.timeout)?;
+        let stats = check_exit("mesher mesh", stats)?;
+        if !mesh.exists() {
+            return Err(RunError::Io(
+                "mesher mesh exited 0 but wrote no out.mesh".into(),
+            ));
+        }
+        let version = format!("mesher {}", env!("CARGO_PKG_VERSION"));
+        Ok(RunOutput {
+            mesh,
+            version,
+            stats,
+        })
+    }
+}

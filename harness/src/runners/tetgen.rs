@@ -1,0 +1,125 @@
+//! TetGen 1.5 (Debian `tetgen`): `tetgen -pq1.414 in.smesh` (`tetgen`) and
+//! `tetgen -pYq1.414 in.smesh` (`tetgen-y`, which keeps every input triangle).
+//!
+//! TetGen aborts without a message on OFF files with comments or blank lines, so the
+//! runner writes the input itself as a comment-free `.smesh` (1-based nodes, facets, and
+//! a hole list with one point inside every nested hole shell; without it TetGen would
+//! also mesh the inside of inner shells), then reads `in.1.node/.ele/.face` back.
+//! TetGen has no version switch (`-v` aborts): the version is the Debian package's.
+
+use super::input::{self, Shell};
+use super::process::{check_exit, run_measured};
+use super::{PeerInfo, RunError, RunOutput, RunRequest, Runner};
+use mesher::Surface;
+use std::fmt::Write as _;
+use std::path::Path;
+use std::process::Command;
+
+/// A TetGen configuration.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TetGen {
+    /// Keep the input boundary exactly (`-Y`).
+    pub keep_boundary: bool,
+    /// Radius-edge ratio bound of `-q`.
+    pub radius_edge: f64,
+}
+
+impl TetGen {
+    /// `-pq1.414`: TetGen's quality refinement; may split boundary faces.
+    pub fn default_switches() -> TetGen {
+        TetGen {
+            keep_boundary: false,
+            radius_edge: 1.414,
+        }
+    }
+
+    /// `-pYq1.414`: the same, keeping every input triangle.
+    pub fn keep_boundary() -> TetGen {
+        TetGen {
+            keep_boundary: true,
+            radius_edge: 1.414,
+        }
+    }
+
+    /// The switches (without the input file).
+    pub fn switches(&self) -> String {
+        let y = if self.keep_boundary { "Y" } else { "" };
+        format!("-p{y}q{}", self.radius_edge)
+    }
+}
+
+impl Runner for TetGen {
+    fn info(&self) -> PeerInfo {
+        if self.keep_boundary {
+            PeerInfo {
+                id: "tetgen-y",
+                name: "TetGen -pYq1.414",
+                keeps_boundary: true,
+            }
+        } else {
+            // -p without -Y may insert Steiner points on boundary faces.
+            PeerInfo {
+                id: "tetgen",
+                name: "TetGen -pq1.414",
+                keeps_boundary: false,
+            }
+        }
+    }
+
+    fn run(&self, req: &RunRequest<'_>) -> Result<RunOutput, RunError> {
+        let version = debian_version("tetgen")
+            .ok_or_else(|| RunError::Missing("tetgen (Debian package) not installed".into()))?;
+        let surface = input::load(req.input)?;
+        // A dirty surface gets no hole list; TetGen then decides for itself.
+        let shells = input::shells(&surface).ok();
+        let smesh = req.workdir.join("in.smesh");
+        write_smesh(&smesh, &surface, shells.as_deref())?;
+        let mut cmd = Command::new("tetgen");
+        cmd.arg(self.switches()).arg("in.smesh");
+        let stats = run_measured(cmd, req.workdir, "tetgen", req.timeout)?;
+        let stats = check_exit("tetgen", stats)?;
+        let mesh = req.workdir.join("in.1.ele");
+        if !mesh.exists() {
+            return Err(RunError::Io("tetgen exited 0 but wrote no in.1.ele".into()));
+        }
+        Ok(RunOutput {
+            mesh,
+            version,
+            stats,
+        })
+    }
+}
+
+/// Version of an installed Debian package (`dpkg-query -W`), e.g. `1.5.0-5`.
+pub fn debian_version(package: &str) -> Option<String> {
+    let out = Command::new("dpkg-query")
+        .args(["-W", "-f=${Version}", package])
+        .output()
+        .ok()?;
+    let v = String::from_utf8_lossy(&out.stdout).trim().to_string();
+    (out.status.success() && !v.is_empty()).then_some(v)
+}
+
+/// Writes a comment-free TetGen `.smesh`: nodes (1-based), triangle facets, hole points
+/// of the nested hole shells, no regions.
+pub fn write_smesh(path: &Path, s: &Surface, shells: Option<&[Shell]>) -> Result<(), RunError> {
+    let mut t = String::with_capacity(64 * (s.vertices.len() + s.triangles.len()));
+    // `{:?}` prints the shortest text that reads back as the same double.
+    let _ = writeln!(t, "{} 3 0 0", s.vertices.len());
+    for (i, p) in s.vertices.iter().enumerate() {
+        let _ = writeln!(t, "{} {:?} {:?} {:?}", i + 1, p.x, p.y, p.z);
+    }
+    let _ = writeln!(t, "{} 0", s.triangles.len());
+    for f in &s.triangles {
+        let _ = writeln!(t, "3 {} {} {}", f[0] + 1, f[1] + 1, f[2] + 1);
+    }
+    let holes = shells
+        .map(|sh| input::hole_points(s, sh))
+        .unwrap_or_default();
+    let _ = writeln!(t, "{}", holes.len());
+    for (i, p) in holes.iter().enumerate() {
+        let _ = writeln!(t, "{} {:?} {:?} {:?}", i + 1, p.x, p.y, p.z);
+    }
+    let _ = writeln!(t, "0");
+    std::fs::write(path, t).map_err(|e| RunError::Io(format!("{}: {e}", path.display())))
+}

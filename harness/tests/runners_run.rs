@@ -1,0 +1,65 @@
+//! `harness run` end to end: rows for a missing peer and a real one, CSV and JSONL
+//! written, `--resume` skipping finished pairs.
+
+use std::process::Command;
+
+fn harness(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_harness"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn run_records_rows_and_resume_skips_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("ball.off");
+    mesher::io::write_surface(&input, &mesher::surface::generate::icosphere(1)).unwrap();
+    let out = dir.path().join("out");
+    let (i, o) = (input.to_str().unwrap(), out.to_str().unwrap());
+    let args = [
+        "run",
+        "--input",
+        i,
+        "--meshers",
+        "ours,tetgen-y",
+        "--out",
+        o,
+        "--timeout",
+        "60",
+    ];
+    let r = harness(&args);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let jsonl = std::fs::read_to_string(out.join("results.jsonl")).unwrap();
+    let rows: Vec<harness::records::Record> = jsonl
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(rows.len(), 2);
+    assert!(rows
+        .iter()
+        .all(|r| r.model == "ball" && r.input_faces == 80));
+    let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 3);
+    assert!(csv.starts_with("model,tier,category,mesher,"));
+    let tg = rows.iter().find(|r| r.mesher == "tetgen-y").unwrap();
+    if harness::runners::tetgen::debian_version("tetgen").is_some() {
+        assert_eq!(tg.status, harness::records::Status::Ok, "{:?}", tg.message);
+        assert!(tg.tets.unwrap() > 0 && tg.wall_seconds.unwrap() > 0.0);
+    } else {
+        assert_eq!(tg.status, harness::records::Status::Missing);
+    }
+    let mut again = args.to_vec();
+    again.push("--resume");
+    let r = harness(&again);
+    assert!(r.status.success());
+    let jsonl2 = std::fs::read_to_string(out.join("results.jsonl")).unwrap();
+    assert_eq!(jsonl, jsonl2, "--resume re-ran a finished pair");
+}
+
+#[test]
+fn unknown_mesher_is_an_error() {
+    let r = harness(&["run", "--input", "x.off", "--meshers", "nope"]);
+    assert!(!r.status.success());
+    assert!(String::from_utf8_lossy(&r.stderr).contains("unknown mesher"));
+}
