@@ -4,7 +4,7 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
-scripts/setup.sh
+scripts/setup.sh --peers
 scripts/fetch-corpus.sh
 export MESHER_PYTHON="${MESHER_PYTHON:-$root/.venv/bin/python}"
 echo "== cargo fmt --check"
