@@ -7,6 +7,8 @@ venv="${MESHER_VENV:-$root/.venv}"
 
 # g++ builds the CGAL driver (reference/build.rs); time (/usr/bin/time -v) is used by scripts/bench-kernel.sh.
 apt_pkgs=(tetgen libcgal-dev libgmp-dev libmpfr-dev g++ time python3-venv)
+# chromium: harness/tests/report.rs renders the HTML report headless and checks the screenshot.
+apt_pkgs+=(chromium)
 missing=()
 for p in "${apt_pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
