@@ -113,6 +113,8 @@ pub fn cli(args: RunArgs) -> anyhow::Result<ExitCode> {
     let runners = select_runners(&args.meshers)?;
     let out = args.out.clone().unwrap_or_else(default_out_dir);
     std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
+    // Peers run in their own work directories: every path handed to them is absolute.
+    let out = std::path::absolute(&out).with_context(|| format!("resolving {}", out.display()))?;
     let mut rows = if args.resume {
         records::read_jsonl(&out.join("results.jsonl")).context("reading results.jsonl")?
     } else {

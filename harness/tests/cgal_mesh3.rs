@@ -206,3 +206,16 @@ fn missing_binary_is_reported_as_missing() {
     ));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Regression: `harness run --out reports/runs/x` (a relative directory) made CGAL look
+/// for its input relative to its own work directory and fail on every model.
+#[test]
+fn relative_work_directory_works() {
+    let Some(runner) = runner() else { return };
+    let rel = PathBuf::from(format!("cgal-rel-test-{}", std::process::id()));
+    std::fs::create_dir_all(&rel).unwrap();
+    let out = run(&runner, &rel, &mesher::surface::generate::icosphere(2));
+    std::fs::remove_dir_all(&rel).ok();
+    let out = out.expect("CGAL runs from a relative work directory");
+    assert!(out.stats.exit_code == Some(0));
+}

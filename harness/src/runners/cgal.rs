@@ -106,15 +106,18 @@ impl Runner for CgalMesh3 {
                 "edge length {h} is not a positive size"
             )));
         }
-        let input = request.workdir.join("cgal-input.off");
-        let output = request.workdir.join("cgal.mesh");
+        let input = request.workdir.join(INPUT_NAME);
+        let output = request.workdir.join(OUTPUT_NAME);
         let read =
             mesher::io::read_surface(request.input).map_err(|e| RunError::Io(e.to_string()))?;
         mesher::io::write_surface(&input, &read.surface)
             .map_err(|e| RunError::Io(e.to_string()))?;
 
-        let args = self.command_line(&input, &output, h);
-        let stats = run_measured(&self.binary, &args, request.workdir, request.timeout)?;
+        // The child runs in the work directory: name its files relative to it, so a
+        // relative work directory cannot send it looking elsewhere.
+        let args = self.command_line(Path::new(INPUT_NAME), Path::new(OUTPUT_NAME), h);
+        let binary = std::path::absolute(&self.binary).map_err(|e| RunError::Io(e.to_string()))?;
+        let stats = run_measured(&binary, &args, request.workdir, request.timeout)?;
         if stats.exit_code != Some(0) {
             return Err(failure(stats));
         }
@@ -128,6 +131,11 @@ impl Runner for CgalMesh3 {
         })
     }
 }
+
+/// The surface handed to CGAL, in the work directory.
+const INPUT_NAME: &str = "cgal-input.off";
+/// CGAL's output, in the work directory.
+const OUTPUT_NAME: &str = "cgal.mesh";
 
 /// Maps a non-zero exit, a signal or a timeout to the matching error.
 fn failure(stats: ProcessStats) -> RunError {
