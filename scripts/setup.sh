@@ -9,17 +9,19 @@ venv="${MESHER_VENV:-$root/.venv}"
 apt_pkgs=(tetgen libcgal-dev libgmp-dev libmpfr-dev g++ time python3-venv)
 # chromium: harness/tests/report.rs renders the HTML report headless and checks the screenshot.
 apt_pkgs+=(chromium)
-missing=()
-for p in "${apt_pkgs[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-  sudo_cmd=""
+# apt_ensure PKG...: installs the packages that are not installed yet (one apt run).
+apt_ensure() {
+  local missing=() p sudo_cmd=""
+  for p in "$@"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  [ ${#missing[@]} -gt 0 ] || return 0
   [ "$(id -u)" -eq 0 ] || sudo_cmd="sudo"
   echo "setup: installing ${missing[*]}"
   $sudo_cmd apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq "${missing[@]}" >/dev/null
-fi
+}
+apt_ensure "${apt_pkgs[@]}"
 
 # Python packages, pinned in scripts/requirements.txt: meshio and numpy always; with --peers
 # every line (gmsh, pytetwild, pyvista, pymeshlab). pip runs only when a pin is not met.
@@ -33,18 +35,7 @@ if [ ! -x "$venv/bin/python" ]; then
 fi
 # gmsh and pymeshlab load the GL/X client libraries at import time.
 if [ "${1:-}" = "--peers" ]; then
-  gl_pkgs=(libglu1-mesa libgl1 libxcursor1 libxft2 libfontconfig1 libxinerama1)
-  gl_missing=()
-  for p in "${gl_pkgs[@]}"; do
-    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || gl_missing+=("$p")
-  done
-  if [ ${#gl_missing[@]} -gt 0 ]; then
-    sudo_cmd=""
-    [ "$(id -u)" -eq 0 ] || sudo_cmd="sudo"
-    echo "setup: installing ${gl_missing[*]}"
-    $sudo_cmd apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq "${gl_missing[@]}" >/dev/null
-  fi
+  apt_ensure libglu1-mesa libgl1 libxcursor1 libxft2 libfontconfig1 libxinerama1
 fi
 frozen="$("$venv/bin/python" -m pip freeze 2>/dev/null | tr '[:upper:]' '[:lower:]')"
 need=()
