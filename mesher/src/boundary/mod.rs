@@ -111,6 +111,8 @@ pub struct BoundaryReport {
     pub steiner_interior: usize,
     /// Steiner points placed that ended outside the domain (deleted with it).
     pub steiner_outside: usize,
+    /// Steiner points taken out again after the recovery.
+    pub steiner_removed: usize,
     /// Steiner points on input edges (the surface is never split: always 0).
     pub steiner_on_edges: usize,
     /// Steiner points on input faces (always 0, as above).
@@ -239,6 +241,18 @@ pub fn boundary_mesh(
             let t3 = Instant::now();
             let mut steiner = steiner;
             steiner.extend(rec.steiner.iter().map(|&v| VertexId(v)));
+            // Try to take every Steiner point out again (paper §4.2's "remove or
+            // relocate"): the ones that are not needed go.
+            // Removing one can free another: repeat while a pass removes some.
+            let before = steiner.len();
+            for _ in 0..4 {
+                let n = steiner.len();
+                steiner.retain(|v| !rec.remove_vertex(v.0));
+                if steiner.len() == n {
+                    break;
+                }
+            }
+            report.steiner_removed = before - steiner.len();
             let bm = finish(rec, surface, surface_vertex, steiner, &mut report)?;
             report.time_domain = t3.elapsed().as_secs_f64();
             return Ok((bm, report));

@@ -247,6 +247,44 @@ impl Recovery {
         true
     }
 
+    /// Removes vertex `s` (a Steiner point, on no constrained entity): its star is
+    /// re-tetrahedralised as the cone from one of its neighbours that sees every face of
+    /// the star's boundary (tried in id order). Constrained edges and faces are never on
+    /// the inside of the star (they do not touch `s`), so they all stay.
+    pub fn remove_vertex(&mut self, s: u32) -> bool {
+        let mut star = Vec::new();
+        self.l.star(s, &mut star);
+        if star.is_empty() || star.iter().any(|&t| self.l.is_ghost(t)) {
+            return false;
+        }
+        let mut link: Vec<[u32; 3]> = Vec::with_capacity(star.len());
+        for &t in &star {
+            let v = self.l.tet(t);
+            let Some(i) = (0..4).find(|&i| v[i] == s) else {
+                return false;
+            };
+            link.push(FACE_VERTICES[i].map(|k| v[k]));
+        }
+        let mut nbrs: Vec<u32> = link.iter().flatten().copied().collect();
+        nbrs.sort_unstable();
+        nbrs.dedup();
+        for u in nbrs {
+            let new: Vec<[u32; 4]> = link
+                .iter()
+                .filter(|f| !f.contains(&u))
+                .map(|f| [f[0], f[1], f[2], u])
+                .collect();
+            if new
+                .iter()
+                .all(|t| self.l.orient(t[0], t[1], t[2], t[3]) == Orientation::Positive)
+                && self.l.replace(&star, &new).is_ok()
+            {
+                return true;
+            }
+        }
+        false
+    }
+
     /// A point strictly on the positive side of every face (inexact search, exact
     /// check), or `None`: a compass search maximising the smallest scaled volume.
     fn kernel_point(&self, faces: &[[u32; 3]]) -> Option<Point> {
