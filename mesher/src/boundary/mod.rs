@@ -413,9 +413,14 @@ fn recover_all(
     }
     // Repeated passes: recovering one segment can unblock another.
     let mut stuck_edges = Vec::new();
-    for _pass in 0..MAX_PASSES {
+    // First flips and cones only, then with Steiner points for what is left.
+    rec.allow_steiner = false;
+    for pass in 0..2 * MAX_PASSES {
         if missing.is_empty() {
             break;
+        }
+        if pass == MAX_PASSES {
+            rec.allow_steiner = true;
         }
         stuck_edges.clear();
         for &(a, b, t) in &missing {
@@ -434,7 +439,10 @@ fn recover_all(
         let progress = stuck_edges.len() < missing.len();
         std::mem::swap(&mut missing, &mut stuck_edges);
         if !progress {
-            break;
+            if rec.allow_steiner {
+                break;
+            }
+            rec.allow_steiner = true;
         }
     }
     // `missing` now holds what is still missing.

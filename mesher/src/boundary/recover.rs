@@ -100,6 +100,8 @@ pub(crate) struct Recovery {
     pub flips: FlipCounts,
     /// Interior Steiner points inserted in Schönhardt fans.
     pub steiner: Vec<u32>,
+    /// Whether Steiner points may be inserted (a second phase, after flips alone).
+    pub allow_steiner: bool,
     scratch: Vec<u32>,
     star: Vec<u32>,
 }
@@ -111,6 +113,7 @@ impl Recovery {
             locks: Locks::default(),
             flips: FlipCounts::default(),
             steiner: Vec::new(),
+            allow_steiner: false,
             scratch: Vec::new(),
             star: Vec::new(),
         }
@@ -166,12 +169,12 @@ impl Recovery {
         if self.has_edge(a, b) {
             return Ok(());
         }
-        // Flips are stuck (or cycle): Steiner point in a Schönhardt fan, else a cone.
-        let done = self.schonhardt(a, b)
-            || [(a, b), (b, a)].iter().any(|&(p, q)| {
-                self.met_tets(p, q)
-                    .is_some_and(|seed| self.cone(p, &seed, &[q]))
-            });
+        // Flips are stuck (or cycle): a cone from an end point, else (when allowed) a
+        // Schönhardt fan with a Steiner point.
+        let done = [(a, b), (b, a)].iter().any(|&(p, q)| {
+            self.met_tets(p, q)
+                .is_some_and(|seed| self.cone(p, &seed, &[q]))
+        }) || (self.allow_steiner && self.schonhardt(a, b));
         self.l.forget();
         if done && self.has_edge(a, b) {
             Ok(())
@@ -209,7 +212,7 @@ impl Recovery {
         let t0 = match self.l.orient(x, y, a, b) {
             Orientation::Positive => [x, y, a, b],
             Orientation::Negative => [y, x, a, b],
-            Orientation::Zero => return false,
+            Orientation::Zero => return self.planar_fan(x, y, a, b),
         };
         // Faces of the rest: the fan's boundary faces other than its two end faces
         // (those with both x and y), and the faces of t0 opposite x and y, reversed.
@@ -283,6 +286,100 @@ impl Recovery {
             }
         }
         false
+    }
+
+    /// The flat case of [`Recovery::schonhardt`]: `a`, `b`, `x`, `y` are coplanar and the
+    /// segment `ab` crosses the edge `xy` (a flat quad `a x b y` with the other
+    /// diagonal). The ring of `xy` splits at `a` and `b` into two paths, one on each
+    /// side of the plane; each side is re-tetrahedralised with the triangles `abx` and
+    /// `aby` as its face on the plane: the cone from one of its own ring vertices when
+    /// one sees all its faces, else from an interior Steiner point.
+    fn planar_fan(&mut self, x: u32, y: u32, a: u32, b: u32) -> bool {
+        let Some(ring) = self.l.ring(x, y, &mut self.scratch) else {
+            return false;
+        };
+        let n = ring.len();
+        let (Some(ia), Some(ib)) = (
+            ring.iter().position(|r| r.1 == a),
+            ring.iter().position(|r| r.1 == b),
+        ) else {
+            return false;
+        };
+        let old: Vec<u32> = ring.iter().map(|r| r.0).collect();
+        let mut new: Vec<[u32; 4]> = Vec::new();
+        let mut added = 0;
+        for (from, to) in [(ia, ib), (ib, ia)] {
+            // Ring tets k (between ring[k] and ring[k+1]) from `from` to `to`.
+            let mut tets = Vec::new();
+            let mut k = from;
+            while k != to {
+                tets.push(k);
+                k = (k + 1) % n;
+            }
+            if tets.len() < 2 {
+                self.pop_added(added);
+                return false;
+            }
+            let inner = ring[(from + 1) % n].1;
+            let mut faces: Vec<[u32; 3]> = Vec::new();
+            for &k in &tets {
+                let (p, q) = (ring[k].1, ring[(k + 1) % n].1);
+                // Tet (x, y, p, q) is positive: its faces opposite y and x, seen inside.
+                faces.push([x, p, q]);
+                faces.push([y, q, p]);
+            }
+            for w in [x, y] {
+                let f = if self.l.orient(a, b, w, inner) == Orientation::Positive {
+                    [a, b, w]
+                } else {
+                    [b, a, w]
+                };
+                faces.push(f);
+            }
+            // Candidates: the path's own vertices, then a and b themselves.
+            let apex = tets
+                .iter()
+                .skip(1)
+                .map(|&k| ring[k].1)
+                .chain([a, b])
+                .find(|&w| {
+                    faces
+                        .iter()
+                        .filter(|f| !f.contains(&w))
+                        .all(|f| self.l.orient(f[0], f[1], f[2], w) == Orientation::Positive)
+                });
+            let apex = match apex {
+                Some(w) => w,
+                None => {
+                    let Some(sp) = self.kernel_point(&faces) else {
+                        self.pop_added(added);
+                        return false;
+                    };
+                    added += 1;
+                    self.l.mesh.push_vertex(sp).0
+                }
+            };
+            new.extend(
+                faces
+                    .iter()
+                    .filter(|f| !f.contains(&apex))
+                    .map(|f| [f[0], f[1], f[2], apex]),
+            );
+        }
+        if self.l.replace(&old, &new).is_err() {
+            self.pop_added(added);
+            return false;
+        }
+        let nv = self.l.mesh.num_vertices() as u32;
+        self.steiner.extend(nv - added as u32..nv);
+        self.flips.fans += 1;
+        true
+    }
+
+    fn pop_added(&mut self, added: usize) {
+        for _ in 0..added {
+            self.l.mesh.pop_vertex();
+        }
     }
 
     /// A point strictly on the positive side of every face (inexact search, exact
