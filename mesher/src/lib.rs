@@ -6,6 +6,7 @@
 //! stages <- CLI. [`surface`], [`io`] and [`quality`] sit beside the kernel: the kernel
 //! never reads files and never computes quality.
 
+pub mod boundary;
 pub mod delaunay;
 pub mod geom;
 pub mod io;

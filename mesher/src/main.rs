@@ -2,6 +2,7 @@
 //!
 //! - `mesher delaunay INPUT -o OUT`: Delaunay tetrahedralisation of the vertices of a
 //!   surface or of a TetGen `.node` point file (paper §3).
+//! - `mesher boundary SURFACE -o OUT`: the boundary mesh T(S,F) (paper §4).
 //! - `mesher check SURFACE`: the defects of a surface; exit code 0 clean, 1 defects.
 //! - `mesher generate KIND -o OUT`: deterministic test surfaces.
 
@@ -45,6 +46,21 @@ enum Command {
         /// Seed of the randomised insertion order.
         #[arg(long, default_value_t = DelaunayOptions::default().seed)]
         seed: u64,
+    },
+    /// The boundary mesh T(S,F): the domain bounded by the surface, with no vertex but
+    /// the surface's and interior Steiner points (paper §4).
+    Boundary {
+        /// The closed surface (.off, .obj, .stl, .mesh).
+        surface: PathBuf,
+        /// Output mesh (.vtu, .mesh, .msh, .node); nothing is written without it.
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Print the report as JSON on stdout.
+        #[arg(long)]
+        stats: bool,
+        /// Check every adjacency and orientation invariant afterwards.
+        #[arg(long)]
+        validate: bool,
     },
     /// Check a surface: open, non-manifold, self-intersecting, degenerate.
     Check {
@@ -116,6 +132,12 @@ fn run(cli: Cli) -> Result<ExitCode> {
             )
         }
         Command::Check { surface, json } => check(&surface, json),
+        Command::Boundary {
+            surface,
+            output,
+            stats,
+            validate,
+        } => boundary(&surface, output.as_deref(), stats, validate),
         Command::Generate {
             kind,
             level,
@@ -223,4 +245,45 @@ fn check(path: &Path, json: bool) -> Result<ExitCode> {
     } else {
         Ok(ExitCode::from(1))
     }
+}
+
+fn boundary(path: &Path, output: Option<&Path>, stats: bool, validate: bool) -> Result<ExitCode> {
+    use mesher::boundary::{boundary_mesh, BoundaryError, BoundaryOptions};
+    let read = mesher::io::read_surface(path)?;
+    let t0 = Instant::now();
+    let (bm, report) = match boundary_mesh(&read.surface, &BoundaryOptions::default()) {
+        Ok(r) => r,
+        Err(e @ (BoundaryError::Defective { .. } | BoundaryError::VertexOnEntity { .. })) => {
+            eprintln!("mesher: {}: {e}", path.display());
+            return Ok(ExitCode::from(1));
+        }
+        Err(e) => return Err(e).with_context(|| format!("boundary mesh of {}", path.display())),
+    };
+    let seconds = t0.elapsed().as_secs_f64();
+    if validate {
+        bm.mesh
+            .validate(false)
+            .context("the boundary mesh failed validation")?;
+    }
+    if let Some(out) = output {
+        mesher::io::write_volume(out, &bm.to_volume_mesh(&read.surface))
+            .with_context(|| format!("writing {}", out.display()))?;
+    }
+    if stats {
+        let mut v = serde_json::to_value(&report)?;
+        v["seconds"] = serde_json::json!(seconds);
+        println!("{v}");
+    } else {
+        eprintln!(
+            "mesher: {} triangles -> {} tets, {} region(s); missing {} edges, {} faces; {} interior Steiner point(s); {:.3} s",
+            report.surface_triangles,
+            report.tets,
+            report.regions,
+            report.missing_edges,
+            report.missing_faces,
+            report.steiner_interior,
+            seconds
+        );
+    }
+    Ok(ExitCode::SUCCESS)
 }

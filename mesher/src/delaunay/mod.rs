@@ -202,9 +202,14 @@ fn collinear(a: Point, b: Point, c: Point) -> bool {
     z(0, 1) && z(1, 2) && z(0, 2)
 }
 
-/// The paper's starting mesh (§4.1): the 8 corners of the box `[min, max]` split into 5
-/// tets (four corner tets and a central one), with ghosts outside. Corner `i` is
-/// `(x, y, z)` with x from bit 0, y from bit 1, z from bit 2 of `i`.
+/// The paper's starting mesh (§4.1): the 8 corners of the box `[min, max]` and tets
+/// filling it, with ghosts outside. Corner `i` is vertex `i`, at `(x, y, z)` with x from
+/// bit 0, y from bit 1, z from bit 2 of `i`.
+///
+/// The 8 corners are cospherical, so which split of the box is "Delaunay" is decided by
+/// the symbolic perturbation; the split must be the one the perturbed predicates agree
+/// with (the paper's fixed 5-tet split is not always), or a later cavity may not be
+/// star-shaped. So the corners are triangulated by the kernel itself: 5 or 6 tets.
 pub fn box_mesh(min: Point, max: Point) -> Result<TetMesh, DelaunayError> {
     if !(min.is_finite() && max.is_finite()) || min.cmpge(max).any() {
         return Err(DelaunayError::Degenerate {
@@ -221,19 +226,21 @@ pub fn box_mesh(min: Point, max: Point) -> Result<TetMesh, DelaunayError> {
             )
         })
         .collect();
-    let mut tets = [
-        [0, 1, 2, 4],
-        [3, 2, 1, 7],
-        [5, 1, 4, 7],
-        [6, 4, 2, 7],
-        [1, 2, 4, 7],
-    ];
-    for t in &mut tets {
-        let q = |k: usize| corners[t[k] as usize];
-        if orient3d(q(0), q(1), q(2), q(3)) == Orientation::Negative {
-            t.swap(0, 1);
-        }
+    let options = DelaunayOptions {
+        order: InsertionOrder::Input,
+        seed: 0,
+    };
+    let tr = triangulate(&corners, &options)?;
+    // Back to corner numbering: mesh vertex k is the corner inserted k-th.
+    let mut corner_of = [0u32; 8];
+    for (i, v) in tr.vertex_of_input.iter().enumerate() {
+        corner_of[v.index()] = i as u32;
     }
+    let tets: Vec<[u32; 4]> = tr
+        .mesh
+        .finite_tets()
+        .map(|t| tr.mesh.tet(t).map(|v| corner_of[v.index()]))
+        .collect();
     TetMesh::from_tets(corners, &tets).map_err(|_| DelaunayError::TooManyTets)
 }
 

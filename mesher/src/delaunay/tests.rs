@@ -182,8 +182,12 @@ fn coplanar_subsets_and_points_on_hull_faces() {
 #[test]
 fn box_mesh_is_valid_and_accepts_points() {
     let mut m = box_mesh(Point::splat(-1.0), Point::splat(2.0)).unwrap();
-    m.validate(false).unwrap();
-    assert_eq!(m.num_finite_tets(), 5);
+    m.validate(true).unwrap();
+    assert!((5..=6).contains(&m.num_finite_tets()));
+    let corner = |i: usize| m.point(crate::tetmesh::VertexId(i as u32));
+    assert_eq!(corner(0), Point::splat(-1.0));
+    assert_eq!(corner(7), Point::splat(2.0));
+    assert_eq!(corner(1), Point::new(2.0, -1.0, -1.0));
     let mut k = Kernel::new();
     k.set_hint(TetId(0));
     for p in rand_points(500, 5) {

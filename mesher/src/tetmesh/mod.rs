@@ -137,6 +137,11 @@ impl TetMesh {
         VertexId(self.points.len() as u32 - 1)
     }
 
+    /// Removes the last vertex, which no tet may use (undoing a refused Steiner point).
+    pub(crate) fn pop_vertex(&mut self) {
+        self.points.pop();
+    }
+
     /// Number of vertices (ghost excluded).
     #[inline]
     pub fn num_vertices(&self) -> usize {

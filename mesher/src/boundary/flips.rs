@@ -1,0 +1,260 @@
+//! Flips for boundary recovery (paper §4.2): the 2-3 flip of a face and the removal of
+//! an edge by re-triangulating the polygon of its ring (n tets -> 2n-4 tets; n = 3 is
+//! the 3-2 flip, n = 4 the 4-4 flip).
+//!
+//! The polygon triangulation is chosen by the dynamic program of Klincsek (1980), as
+//! used for edge removal by Shewchuk ("Two discrete optimization algorithms for the
+//! topological improvement of tetrahedral meshes", 2002): the valid triangulation with
+//! the best worst tet, optionally forced to contain one triangle. Every change goes
+//! through [`Local::replace`], which checks it exactly.
+
+use super::local::{Local, Refused};
+use crate::geom::Point;
+use crate::tetmesh::{FaceRef, FACE_VERTICES};
+use std::collections::HashSet;
+
+/// Largest ring an edge removal tries (the dynamic program is cubic in it).
+pub(crate) const MAX_RING: usize = 16;
+
+/// Constrained (locked) entities: never removed by a flip.
+#[derive(Debug, Default)]
+pub(crate) struct Locks {
+    pub edges: HashSet<(u32, u32)>,
+    pub faces: HashSet<[u32; 3]>,
+}
+
+impl Locks {
+    pub fn edge(&self, a: u32, b: u32) -> bool {
+        self.edges.contains(&(a.min(b), a.max(b)))
+    }
+    pub fn face(&self, f: [u32; 3]) -> bool {
+        let mut s = f;
+        s.sort_unstable();
+        self.faces.contains(&s)
+    }
+}
+
+/// Counters of the flips done.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct FlipCounts {
+    /// 2-3 flips.
+    pub flip23: u64,
+    /// 3-2 flips (edge removals with a ring of 3).
+    pub flip32: u64,
+    /// 4-4 flips (edge removals with a ring of 4).
+    pub flip44: u64,
+    /// Edge removals with a ring of 5 or more.
+    pub edge_removals: u64,
+    /// Regions re-tetrahedralised as a cone from one of their vertices.
+    pub cones: u64,
+    /// Schönhardt fans re-tetrahedralised with one interior Steiner point.
+    pub fans: u64,
+}
+
+/// The 2-3 flip of the face opposite local vertex `i` of tet `t`.
+pub(crate) fn flip23(
+    l: &mut Local,
+    locks: &Locks,
+    t: u32,
+    i: usize,
+    n: &mut FlipCounts,
+) -> Result<(), Refused> {
+    let v = l.tet(t);
+    let f = FACE_VERTICES[i].map(|k| v[k]);
+    if locks.face(f) {
+        return Err(Refused::Mismatch);
+    }
+    let nb = FaceRef::from_raw(l.adj(t)[i]);
+    let u = nb.tet().0;
+    if l.is_ghost(u) {
+        return Err(Refused::Hull);
+    }
+    let (d, e) = (v[i], l.tet(u)[nb.facet()]);
+    let new = [[f[0], f[1], e, d], [f[1], f[2], e, d], [f[2], f[0], e, d]];
+    l.replace(&[t, u], &new)?;
+    n.flip23 += 1;
+    Ok(())
+}
+
+/// Which triangulation of the ring polygon an edge removal uses.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Choice {
+    /// The best valid one.
+    Best,
+    /// The best one with this triangle (ring vertices) in it.
+    With([u32; 3]),
+    /// The fan from this ring vertex, else the best.
+    FanFrom(u32),
+}
+
+/// Removes edge `xy` by re-triangulating its ring.
+pub(crate) fn remove_edge(
+    l: &mut Local,
+    locks: &Locks,
+    x: u32,
+    y: u32,
+    choice: Choice,
+    scratch: &mut Vec<u32>,
+    n: &mut FlipCounts,
+) -> Result<(), Refused> {
+    if locks.edge(x, y) {
+        return Err(Refused::Mismatch);
+    }
+    let ring = l.ring(x, y, scratch).ok_or(Refused::Hull)?;
+    if ring.len() > MAX_RING || ring.len() < 3 {
+        return Err(Refused::Mismatch);
+    }
+    let poly: Vec<u32> = ring.iter().map(|r| r.1).collect();
+    let pts: Vec<Point> = poly.iter().map(|&v| l.p(v)).collect();
+    let (px, py) = (l.p(x), l.p(y));
+    // Ring is counter-clockwise seen from y: tets [pi, pj, pk, y] and [pj, pi, pk, x].
+    let valid = |i: usize, j: usize, k: usize| -> f64 {
+        let (a, b, c) = (pts[i], pts[j], pts[k]);
+        let q1 = shape(a, b, c, py);
+        let q2 = shape(b, a, c, px);
+        if q1 > 0.0 && q2 > 0.0 {
+            q1.min(q2)
+        } else {
+            -1.0
+        }
+    };
+    let pos = |v: u32| poly.iter().position(|&p| p == v);
+    let tris = match choice {
+        Choice::Best => best_triangulation(&(0..poly.len()).collect::<Vec<_>>(), &valid),
+        Choice::With(t) => match (pos(t[0]), pos(t[1]), pos(t[2])) {
+            (Some(i), Some(j), Some(k)) => forced(poly.len(), [i, j, k], &valid),
+            _ => None,
+        },
+        Choice::FanFrom(v) => pos(v)
+            .and_then(|s| fan(poly.len(), s, &valid))
+            .or_else(|| best_triangulation(&(0..poly.len()).collect::<Vec<_>>(), &valid)),
+    }
+    .ok_or(Refused::NotPositive)?;
+    let mut new = Vec::with_capacity(tris.len() * 2);
+    for [i, j, k] in tris {
+        let (a, b, c) = (poly[i], poly[j], poly[k]);
+        new.push([a, b, c, y]);
+        new.push([b, a, c, x]);
+    }
+    let old: Vec<u32> = ring.iter().map(|r| r.0).collect();
+    l.replace(&old, &new)?;
+    match ring.len() {
+        3 => n.flip32 += 1,
+        4 => n.flip44 += 1,
+        _ => n.edge_removals += 1,
+    }
+    Ok(())
+}
+
+/// A scale-free shape measure of tet `abcd`: positive iff its volume (inexact) is, 1
+/// for the regular tet. Exact validity is checked by `replace`; this only ranks.
+fn shape(a: Point, b: Point, c: Point, d: Point) -> f64 {
+    let v = (b - a).dot((c - a).cross(d - a)) / 6.0;
+    let s = [b - a, c - a, d - a, c - b, d - b, d - c]
+        .iter()
+        .map(|e| e.length_squared())
+        .sum::<f64>()
+        / 6.0;
+    if s <= 0.0 {
+        return -1.0;
+    }
+    // Regular tet of edge l: V = l^3 / (6 sqrt 2).
+    v * 6.0 * std::f64::consts::SQRT_2 / (s * s.sqrt())
+}
+
+/// The fan of triangles from polygon vertex `s`, if all are valid.
+fn fan(n: usize, s: usize, q: &impl Fn(usize, usize, usize) -> f64) -> Option<Vec<[usize; 3]>> {
+    let idx: Vec<usize> = (0..n).map(|k| (s + k) % n).collect();
+    let tris: Vec<[usize; 3]> = (1..n - 1).map(|k| [idx[0], idx[k], idx[k + 1]]).collect();
+    tris.iter()
+        .all(|t| q(t[0], t[1], t[2]) > 0.0)
+        .then_some(tris)
+}
+
+/// The best triangulation containing triangle `t` (polygon indices).
+fn forced(
+    n: usize,
+    t: [usize; 3],
+    q: &impl Fn(usize, usize, usize) -> f64,
+) -> Option<Vec<[usize; 3]>> {
+    let mut t = t;
+    t.sort_unstable();
+    if q(t[0], t[1], t[2]) <= 0.0 {
+        return None;
+    }
+    let mut out = vec![[t[0], t[1], t[2]]];
+    let chains = [
+        (t[0]..=t[1]).collect::<Vec<_>>(),
+        (t[1]..=t[2]).collect::<Vec<_>>(),
+        (t[2]..n).chain(0..=t[0]).collect::<Vec<_>>(),
+    ];
+    for c in chains {
+        if c.len() >= 3 {
+            out.extend(best_triangulation(&c, q)?);
+        }
+    }
+    Some(out)
+}
+
+/// Klincsek's dynamic program over the polygon `idx` (indices in cyclic order): the
+/// triangulation maximising the smallest `q`, or `None` if every one has a `q <= 0`.
+fn best_triangulation(
+    idx: &[usize],
+    q: &impl Fn(usize, usize, usize) -> f64,
+) -> Option<Vec<[usize; 3]>> {
+    let m = idx.len();
+    if m < 3 {
+        return Some(Vec::new());
+    }
+    let mut best = vec![f64::NEG_INFINITY; m * m];
+    let mut arg = vec![0usize; m * m];
+    for i in 0..m - 1 {
+        best[i * m + i + 1] = f64::INFINITY;
+    }
+    for len in 2..m {
+        for i in 0..m - len {
+            let j = i + len;
+            for k in i + 1..j {
+                let v = best[i * m + k]
+                    .min(best[k * m + j])
+                    .min(q(idx[i], idx[k], idx[j]));
+                if v > best[i * m + j] {
+                    best[i * m + j] = v;
+                    arg[i * m + j] = k;
+                }
+            }
+        }
+    }
+    if best[m - 1] <= 0.0 {
+        return None;
+    }
+    let mut out = Vec::with_capacity(m - 2);
+    let mut stack = vec![(0, m - 1)];
+    while let Some((i, j)) = stack.pop() {
+        if j - i < 2 {
+            continue;
+        }
+        let k = arg[i * m + j];
+        out.push([idx[i], idx[k], idx[j]]);
+        stack.push((i, k));
+        stack.push((k, j));
+    }
+    Some(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dp_triangulates_a_convex_polygon_and_forces_a_triangle() {
+        let q = |_: usize, _: usize, _: usize| 1.0;
+        let t = best_triangulation(&[0, 1, 2, 3, 4, 5], &q).unwrap();
+        assert_eq!(t.len(), 4);
+        let f = forced(6, [4, 0, 2], &q).unwrap();
+        assert_eq!(f.len(), 4);
+        assert!(f.contains(&[0, 2, 4]));
+        let bad = |i: usize, _: usize, _: usize| if i == 0 { -1.0 } else { 1.0 };
+        assert!(best_triangulation(&[0, 1, 2], &bad).is_none());
+    }
+}

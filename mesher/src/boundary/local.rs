@@ -1,0 +1,399 @@
+//! Local topology and local re-tetrahedralisation for boundary recovery (paper §4.2).
+//!
+//! [`Local`] wraps the [`TetMesh`] with a vertex-to-tet map, star and edge-ring queries,
+//! and one checked primitive, [`Local::replace`]: a set of tets is replaced by another
+//! set covering the same region. Every flip (2-3, 3-2, 4-4, the n-to-2n-4 edge removal)
+//! and every star insertion is a `replace`, so the checks live in one place: each new
+//! tet must be strictly positive (exact `orient3d`), the new faces must pair up with
+//! opposite orientations, and the outer faces must be exactly the old region's outer
+//! faces with the same orientation. A rejected `replace` changes nothing.
+
+use crate::geom::predicates::{orient3d, Orientation};
+use crate::geom::Point;
+use crate::tetmesh::{FaceRef, TetId, TetMesh, VertexId, FACE_VERTICES};
+use std::collections::HashMap;
+
+pub(crate) const GHOST: u32 = VertexId::GHOST.0;
+
+/// Why a local change was refused.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Refused {
+    /// A new tet is flat or inverted.
+    NotPositive,
+    /// The new tets do not close up with the old region's boundary.
+    Mismatch,
+    /// The change touches a ghost tet (the box hull).
+    Hull,
+    /// Out of tet ids.
+    Full,
+}
+
+/// The mesh with a vertex-to-tet map, kept valid by every change made through it.
+#[derive(Debug)]
+pub(crate) struct Local {
+    pub mesh: TetMesh,
+    /// For each vertex, a live tet that has it (`u32::MAX` before it is in a tet).
+    v2t: Vec<u32>,
+    /// Tets created by the last successful [`Local::replace`].
+    pub created: Vec<u32>,
+    /// Undo log of the changes since [`Local::mark`]: created tets, replaced tets.
+    journal: Vec<(Vec<u32>, Vec<[u32; 4]>)>,
+    journaling: bool,
+    /// Validate the whole mesh after every change (`MESHER_VALIDATE_OPS` set; slow).
+    validate_ops: bool,
+    /// Per tet slot: the visit number of the last search that saw it.
+    seen: std::cell::RefCell<Vec<u32>>,
+    visit: std::cell::Cell<u32>,
+}
+
+/// A face key: sorted vertex ids and whether the given order is an even permutation of
+/// the sorted one.
+fn face_key(f: [u32; 3]) -> ([u32; 3], bool) {
+    let mut s = f;
+    let mut even = true;
+    for i in 0..3 {
+        for j in 0..2 - i {
+            if s[j] > s[j + 1] {
+                s.swap(j, j + 1);
+                even = !even;
+            }
+        }
+    }
+    (s, even)
+}
+
+impl Local {
+    /// Wraps `mesh` and builds the vertex-to-tet map.
+    pub fn new(mesh: TetMesh) -> Self {
+        let mut l = Local {
+            v2t: Vec::new(),
+            mesh,
+            created: Vec::new(),
+            journal: Vec::new(),
+            journaling: false,
+            validate_ops: std::env::var_os("MESHER_VALIDATE_OPS").is_some(),
+            seen: Default::default(),
+            visit: Default::default(),
+        };
+        l.rebuild_v2t();
+        l
+    }
+
+    fn rebuild_v2t(&mut self) {
+        self.v2t = vec![u32::MAX; self.mesh.num_vertices()];
+        for t in self.mesh.tets() {
+            for v in self.mesh.raw_tet(t.0) {
+                if v != GHOST {
+                    self.v2t[v as usize] = t.0;
+                }
+            }
+        }
+    }
+
+    /// Coordinates of vertex `v`.
+    #[inline]
+    pub fn p(&self, v: u32) -> Point {
+        self.mesh.point(VertexId(v))
+    }
+
+    /// Exact orientation of four vertices.
+    #[inline]
+    pub fn orient(&self, a: u32, b: u32, c: u32, d: u32) -> Orientation {
+        orient3d(self.p(a), self.p(b), self.p(c), self.p(d))
+    }
+
+    #[inline]
+    pub fn tet(&self, t: u32) -> [u32; 4] {
+        self.mesh.raw_tet(t)
+    }
+
+    #[inline]
+    pub fn adj(&self, t: u32) -> [u32; 4] {
+        self.mesh.raw_adj(t)
+    }
+
+    #[inline]
+    pub fn is_ghost(&self, t: u32) -> bool {
+        self.mesh.raw_tet(t)[3] == GHOST
+    }
+
+    /// The tets that have vertex `v` (ghosts included), by a walk over the faces at `v`.
+    pub fn star(&self, v: u32, out: &mut Vec<u32>) {
+        out.clear();
+        let Some(&start) = self.v2t.get(v as usize) else {
+            return;
+        };
+        if start == u32::MAX {
+            return;
+        }
+        debug_assert!(self.tet(start).contains(&v), "stale v2t for {v}");
+        let mut seen = self.seen.borrow_mut();
+        if seen.len() < self.mesh.num_slots() {
+            seen.resize(self.mesh.num_slots() * 5 / 4 + 64, 0);
+        }
+        let mut visit = self.visit.get().wrapping_add(1);
+        if visit == 0 {
+            seen.iter_mut().for_each(|s| *s = 0);
+            visit = 1;
+        }
+        self.visit.set(visit);
+        seen[start as usize] = visit;
+        out.push(start);
+        let mut k = 0;
+        while k < out.len() {
+            let t = out[k];
+            k += 1;
+            let tv = self.tet(t);
+            let adj = self.adj(t);
+            for i in 0..4 {
+                if tv[i] == v {
+                    continue;
+                }
+                let u = FaceRef::from_raw(adj[i]).tet().0;
+                if seen[u as usize] != visit {
+                    seen[u as usize] = visit;
+                    out.push(u);
+                }
+            }
+        }
+    }
+
+    /// A live tet with edge `ab`, if the edge exists.
+    pub fn find_edge(&self, a: u32, b: u32, scratch: &mut Vec<u32>) -> Option<u32> {
+        self.star(a, scratch);
+        scratch
+            .iter()
+            .copied()
+            .find(|&t| !self.is_ghost(t) && self.tet(t).contains(&b))
+    }
+
+    /// The ring of edge `ab`: tets `(a, b, p_i, p_{i+1})`, each positively oriented in that
+    /// vertex order, as `(tet, p_i)` in cyclic order. `None` when the edge is missing or
+    /// touches the hull.
+    pub fn ring(&self, a: u32, b: u32, scratch: &mut Vec<u32>) -> Option<Vec<(u32, u32)>> {
+        let t0 = self.find_edge(a, b, scratch)?;
+        let mut ring = Vec::new();
+        let mut t = t0;
+        loop {
+            if self.is_ghost(t) || ring.len() > 4096 {
+                return None;
+            }
+            let v = self.tet(t);
+            let others: Vec<usize> = (0..4).filter(|&i| v[i] != a && v[i] != b).collect();
+            let (mut p, mut q) = (v[others[0]], v[others[1]]);
+            if self.orient(a, b, p, q) != Orientation::Positive {
+                std::mem::swap(&mut p, &mut q);
+            }
+            ring.push((t, p));
+            // The next tet shares face (a, b, q): across the face opposite p.
+            let ip = (0..4).find(|&i| v[i] == p)?;
+            t = FaceRef::from_raw(self.adj(t)[ip]).tet().0;
+            if t == t0 {
+                return Some(ring);
+            }
+        }
+    }
+
+    /// True when some live tet has face `{a, b, c}`.
+    pub fn has_face(&self, a: u32, b: u32, c: u32, scratch: &mut Vec<u32>) -> bool {
+        self.star(a, scratch);
+        scratch.iter().any(|&t| {
+            let v = self.tet(t);
+            v.contains(&b) && v.contains(&c)
+        })
+    }
+
+    /// Replaces the tets `old` (live, finite, distinct) by tets with the vertices `new`,
+    /// after checking that the new set is a positive tetrahedralisation of the same
+    /// region (see the module documentation). On success [`Local::created`] lists the
+    /// new tets.
+    pub fn replace(&mut self, old: &[u32], new: &[[u32; 4]]) -> Result<(), Refused> {
+        if old.iter().any(|&t| self.is_ghost(t)) || new.iter().any(|t| t.contains(&GHOST)) {
+            return Err(Refused::Hull);
+        }
+        for t in new {
+            if self.orient(t[0], t[1], t[2], t[3]) != Orientation::Positive {
+                return Err(Refused::NotPositive);
+            }
+        }
+        // Outer faces of the old region, keyed by sorted vertices; the value is the
+        // outside neighbour and the orientation as listed by the inner (old) tet.
+        let mut outer: HashMap<[u32; 3], (FaceRef, bool, bool)> = HashMap::new();
+        for &t in old {
+            let v = self.tet(t);
+            let adj = self.adj(t);
+            for i in 0..4 {
+                let nb = FaceRef::from_raw(adj[i]);
+                if old.contains(&nb.tet().0) {
+                    continue;
+                }
+                let f = FACE_VERTICES[i].map(|k| v[k]);
+                let (key, even) = face_key(f);
+                if outer.insert(key, (nb, even, false)).is_some() {
+                    return Err(Refused::Mismatch);
+                }
+            }
+        }
+        // Inner faces of the new set: must pair with opposite orientation.
+        let mut inner: HashMap<[u32; 3], (usize, usize, bool)> = HashMap::new();
+        let mut links: Vec<(usize, usize, Link)> = Vec::with_capacity(new.len() * 4);
+        for (k, t) in new.iter().enumerate() {
+            for (i, fv) in FACE_VERTICES.iter().enumerate() {
+                let (key, even) = face_key(fv.map(|j| t[j]));
+                if let Some(o) = outer.get_mut(&key) {
+                    if o.1 != even || o.2 {
+                        return Err(Refused::Mismatch);
+                    }
+                    o.2 = true;
+                    links.push((k, i, Link::Outer(o.0)));
+                } else if let Some((k2, i2, even2)) = inner.remove(&key) {
+                    if even2 == even {
+                        return Err(Refused::Mismatch);
+                    }
+                    links.push((k, i, Link::Inner(k2, i2)));
+                } else {
+                    inner.insert(key, (k, i, even));
+                }
+            }
+        }
+        if !inner.is_empty() || outer.values().any(|o| !o.2) {
+            return Err(Refused::Mismatch);
+        }
+        self.commit(old, new, &links)
+    }
+
+    /// Starts recording changes so that [`Local::undo`] can revert them; returns the
+    /// position to revert to.
+    pub fn mark(&mut self) -> usize {
+        self.journaling = true;
+        self.journal.len()
+    }
+
+    /// Reverts the changes recorded since `mark`, newest first.
+    pub fn undo(&mut self, mark: usize) {
+        while self.journal.len() > mark {
+            let Some((created, old)) = self.journal.pop() else {
+                break;
+            };
+            let was = std::mem::replace(&mut self.journaling, false);
+            // The inverse of a checked change is valid, so this cannot be refused.
+            let r = self.replace(&created, &old);
+            debug_assert!(r.is_ok(), "undo refused: {r:?}");
+            self.journaling = was;
+        }
+    }
+
+    /// Stops recording and forgets the log.
+    pub fn forget(&mut self) {
+        self.journal.clear();
+        self.journaling = false;
+    }
+
+    fn commit(
+        &mut self,
+        old: &[u32],
+        new: &[[u32; 4]],
+        links: &[(usize, usize, Link)],
+    ) -> Result<(), Refused> {
+        let mut ids: Vec<u32> = old.iter().take(new.len()).copied().collect();
+        while ids.len() < new.len() {
+            match self.mesh.alloc_tet() {
+                Some(t) => ids.push(t),
+                None => {
+                    for &t in &ids[old.len().min(ids.len())..] {
+                        self.mesh.free_tet(t);
+                    }
+                    return Err(Refused::Full);
+                }
+            }
+        }
+        if self.journaling {
+            let before: Vec<[u32; 4]> = old.iter().map(|&t| self.tet(t)).collect();
+            self.journal.push((ids.clone(), before));
+        }
+        for &t in old.iter().skip(new.len()) {
+            self.mesh.free_tet(t);
+        }
+        for (k, t) in new.iter().enumerate() {
+            self.mesh.set_tet(ids[k], *t);
+            for &v in t {
+                if v as usize >= self.v2t.len() {
+                    self.v2t.resize(v as usize + 1, u32::MAX);
+                }
+                self.v2t[v as usize] = ids[k];
+            }
+        }
+        for &(k, i, link) in links {
+            let me = FaceRef::new(TetId(ids[k]), i);
+            match link {
+                Link::Outer(f) => self.mesh.link(me, f),
+                Link::Inner(k2, i2) => self.mesh.link(me, FaceRef::new(TetId(ids[k2]), i2)),
+            }
+        }
+        if self.validate_ops {
+            if let Err(e) = self.mesh.validate(false) {
+                panic!("replace {old:?} -> {new:?} broke the mesh: {e}");
+            }
+        }
+        self.created = ids;
+        Ok(())
+    }
+}
+
+#[derive(Clone, Copy, Debug)]
+enum Link {
+    Outer(FaceRef),
+    Inner(usize, usize),
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn two_tets() -> Local {
+        // Tets (p, q, r, d) and (q, p, r, e) sharing face pqr, with de through it.
+        let pts = vec![
+            Point::new(1.0, 0.0, 0.0),
+            Point::new(0.0, 1.0, 0.0),
+            Point::new(-1.0, -1.0, 0.0),
+            Point::new(0.0, 0.0, 1.0),
+            Point::new(0.0, 0.0, -1.0),
+        ];
+        let mesh = TetMesh::from_tets(pts, &[[0, 1, 2, 3], [1, 0, 2, 4]]).unwrap();
+        mesh.validate(false).unwrap();
+        Local::new(mesh)
+    }
+
+    #[test]
+    fn flip23_then_32_restores_two_tets() {
+        let mut l = two_tets();
+        let old: Vec<u32> = l.mesh.finite_tets().map(|t| t.0).collect();
+        let new = [[0, 1, 4, 3], [1, 2, 4, 3], [2, 0, 4, 3]];
+        l.replace(&old, &new).unwrap();
+        l.mesh.validate(false).unwrap();
+        assert_eq!(l.mesh.num_finite_tets(), 3);
+        let mut s = Vec::new();
+        let ring = l.ring(3, 4, &mut s).unwrap();
+        assert_eq!(ring.len(), 3);
+        let old: Vec<u32> = ring.iter().map(|r| r.0).collect();
+        l.replace(&old, &[[0, 1, 2, 3], [1, 0, 2, 4]]).unwrap();
+        l.mesh.validate(false).unwrap();
+        assert!(l.has_face(0, 1, 2, &mut s));
+    }
+
+    #[test]
+    fn inverted_or_mismatched_sets_are_refused_and_nothing_changes() {
+        let mut l = two_tets();
+        let old: Vec<u32> = l.mesh.finite_tets().map(|t| t.0).collect();
+        assert_eq!(
+            l.replace(&old, &[[1, 0, 4, 3], [1, 2, 4, 3], [2, 0, 4, 3]]),
+            Err(Refused::NotPositive)
+        );
+        assert_eq!(
+            l.replace(&old, &[[0, 1, 4, 3], [1, 2, 4, 3]]),
+            Err(Refused::Mismatch)
+        );
+        l.mesh.validate(false).unwrap();
+        assert_eq!(l.mesh.num_finite_tets(), 2);
+    }
+}

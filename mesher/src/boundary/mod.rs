@@ -1,0 +1,687 @@
+//! The boundary mesh T(S,F) of the paper (§4): the surface points S inserted by the
+//! Delaunay kernel into an enlarged bounding box (8 corners, 5 tets, §4.1), the missing
+//! constrained edges and faces F recovered by flips (§4.2), interior Steiner points
+//! where flips alone cannot, and the domain identified by adjacency from a box corner
+//! without crossing a constrained face (§4.3).
+//!
+//! Steiner points (the "interior Steiner points preferred" strategy of George,
+//! Borouchaki and Saltel, "'Ultimate' robustness in meshing an arbitrary polyhedron",
+//! IJNME 2003): when an entity stays stuck after the flips, a point is placed off the
+//! surface on each side of it, at a fraction of its length, and the boundary mesh is
+//! rebuilt with those points among the Delaunay vertices; the surface itself is never
+//! split, so the boundary of T(S,F) is the input surface exactly. Points that end up
+//! outside the domain disappear with the outside; the others are reported.
+//!
+//! Entry point: [`boundary_mesh`] -> ([`BoundaryMesh`], [`BoundaryReport`]) or a typed
+//! [`BoundaryError`] that names the entity and where it is.
+//!
+//! Submodules: `local` (vertex-to-tet map, rings, the checked `replace`), `flips` (2-3,
+//! edge removal by ring re-triangulation), `recover` (segment and face recovery),
+//! `domain` (flood fill, regions, volumes).
+
+mod domain;
+mod flips;
+mod local;
+mod recover;
+#[cfg(test)]
+mod tests;
+
+pub use domain::Regions;
+pub use flips::FlipCounts;
+
+use crate::delaunay::{box_mesh, sort, DelaunayError, Inserted, Kernel};
+use crate::geom::{Aabb, Point};
+use crate::surface::Surface;
+use crate::tetmesh::{TetMesh, VertexId};
+use crate::volume::VolumeMesh;
+use local::Local;
+use recover::{Recovery, Stuck};
+use serde::Serialize;
+use std::collections::HashMap;
+use std::time::Instant;
+use thiserror::Error;
+
+/// Passes over the missing edges (or faces) per round: recovering one can unblock
+/// another, so a pass that made progress is followed by another.
+const MAX_PASSES: usize = 4;
+
+/// Parameters of the boundary mesh; the defaults follow NOTES.md §1.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BoundaryOptions {
+    /// Enlargement of the bounding box on each side, relative to its largest extent.
+    pub box_margin: f64,
+    /// Seed of the insertion order and of the order in which entities are recovered.
+    pub seed: u64,
+    /// Flip operations allowed per entity and attempt.
+    pub flip_budget: usize,
+    /// Rebuilds with more interior Steiner points before giving up.
+    pub steiner_rounds: usize,
+    /// Offset of a Steiner point from its stuck entity, relative to the entity's size.
+    pub steiner_offset: f64,
+    /// Check the surface (closed, manifold, no self-intersection) first.
+    pub check_input: bool,
+}
+
+impl Default for BoundaryOptions {
+    fn default() -> Self {
+        BoundaryOptions {
+            box_margin: 0.1,
+            seed: 0x5EED,
+            flip_budget: 64,
+            steiner_rounds: 4,
+            steiner_offset: 0.3,
+            check_input: true,
+        }
+    }
+}
+
+/// The boundary mesh: the whole box mesh with a region per tet.
+#[derive(Debug)]
+pub struct BoundaryMesh {
+    /// All tets of the box (outside ones included, region 0).
+    pub mesh: TetMesh,
+    /// Region of every tet slot: 0 outside the domain, 1.. the material regions.
+    pub region: Vec<u32>,
+    /// Mesh vertex of each input vertex.
+    pub surface_vertex: Vec<VertexId>,
+    /// The eight box corners.
+    pub box_corners: Vec<VertexId>,
+    /// Interior Steiner points (mesh vertices), inside the domain or not.
+    pub steiner: Vec<VertexId>,
+    /// Constrained faces (sorted mesh vertex ids) -> input triangle index.
+    pub constrained: HashMap<[u32; 3], u32>,
+}
+
+/// Counters and timings of one boundary mesh.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct BoundaryReport {
+    /// Input vertices.
+    pub surface_vertices: usize,
+    /// Input triangles.
+    pub surface_triangles: usize,
+    /// Input edges missing from the Delaunay mesh of the surface points.
+    pub missing_edges: usize,
+    /// Input triangles missing from it.
+    pub missing_faces: usize,
+    /// Flips done (all rounds).
+    pub flips: FlipCounts,
+    /// Rebuilds with Steiner points.
+    pub steiner_rounds: usize,
+    /// Steiner points inside the domain.
+    pub steiner_interior: usize,
+    /// Steiner points placed that ended outside the domain (deleted with it).
+    pub steiner_outside: usize,
+    /// Steiner points taken out again after the recovery.
+    pub steiner_removed: usize,
+    /// Steiner points on input edges (the surface is never split: always 0).
+    pub steiner_on_edges: usize,
+    /// Steiner points on input faces (always 0, as above).
+    pub steiner_on_faces: usize,
+    /// Material regions (bodies, or the space between nested shells).
+    pub regions: usize,
+    /// Tets in the domain.
+    pub tets: usize,
+    /// Volume of the domain (sum of tet volumes).
+    pub volume: f64,
+    /// Enclosed volume of the input (signed volumes of its triangles).
+    pub enclosed_volume: f64,
+    /// Seconds: checking the input.
+    pub time_check: f64,
+    /// Seconds: Delaunay insertion (all rounds).
+    pub time_delaunay: f64,
+    /// Seconds: edge and face recovery (all rounds).
+    pub time_recovery: f64,
+    /// Seconds: domain identification.
+    pub time_domain: f64,
+}
+
+/// Why no boundary mesh was built. Every variant names the entity and where it is.
+#[derive(Debug, Error)]
+pub enum BoundaryError {
+    /// The input surface has defects (open, non-manifold, self-intersecting, ...).
+    #[error("the surface has {defects} defect(s), so no boundary mesh is built:\n{summary}")]
+    Defective {
+        /// Number of defects.
+        defects: usize,
+        /// The check report, as printed by `mesher check`.
+        summary: String,
+    },
+    /// Fewer than four independent points, non-finite coordinates, id overflow.
+    #[error(transparent)]
+    Kernel(#[from] DelaunayError),
+    /// Two input vertices have the same coordinates.
+    #[error("input vertices {first} and {second} coincide at ({x}, {y}, {z})")]
+    CoincidentVertices {
+        /// The first vertex.
+        first: usize,
+        /// The second vertex.
+        second: usize,
+        /// x.
+        x: f64,
+        /// y.
+        y: f64,
+        /// z.
+        z: f64,
+    },
+    /// An input vertex lies exactly on an input edge or triangle it is not part of.
+    #[error("input vertex {vertex} at {at:?} lies on input {entity}")]
+    VertexOnEntity {
+        /// The vertex.
+        vertex: usize,
+        /// Its coordinates.
+        at: [f64; 3],
+        /// The edge or triangle, with its vertex ids.
+        entity: String,
+    },
+    /// Some edges or faces could not be recovered within the budgets.
+    #[error("{edges} edge(s) and {faces} face(s) not recovered after {rounds} Steiner round(s); first: {first}")]
+    Unrecovered {
+        /// Edges still missing.
+        edges: usize,
+        /// Faces still missing.
+        faces: usize,
+        /// Steiner rounds done.
+        rounds: usize,
+        /// The first missing entity, with its coordinates.
+        first: String,
+    },
+    /// A connected part of the complement touches both sides of a constrained face.
+    #[error("the domain leaks across input triangle {triangle}: the two sides are connected")]
+    Leak {
+        /// The triangle.
+        triangle: usize,
+    },
+}
+
+/// Builds T(S,F) for a closed surface.
+pub fn boundary_mesh(
+    surface: &Surface,
+    options: &BoundaryOptions,
+) -> Result<(BoundaryMesh, BoundaryReport), BoundaryError> {
+    let mut report = BoundaryReport {
+        surface_vertices: surface.vertices.len(),
+        surface_triangles: surface.triangles.len(),
+        ..BoundaryReport::default()
+    };
+    let t0 = Instant::now();
+    if options.check_input {
+        let check = surface.check();
+        if !check.is_clean() {
+            return Err(BoundaryError::Defective {
+                defects: check.num_defects(),
+                summary: check.to_string(),
+            });
+        }
+    }
+    report.time_check = t0.elapsed().as_secs_f64();
+    let edges = input_edges(surface);
+    let mut steiner_points: Vec<Point> = Vec::new();
+    let mut best: (usize, Vec<Point>, Vec<Entity>) = (usize::MAX, Vec::new(), Vec::new());
+    for round in 0..=options.steiner_rounds {
+        let t1 = Instant::now();
+        let (mesh, surface_vertex, steiner) = delaunay(surface, &steiner_points, options)?;
+        report.time_delaunay += t1.elapsed().as_secs_f64();
+        let t2 = Instant::now();
+        let mut rec = Recovery::new(Local::new(mesh));
+        let (stuck, bad) = recover_all(
+            &mut rec,
+            surface,
+            &edges,
+            &surface_vertex,
+            options,
+            &mut report,
+            round,
+        )?;
+        // Steiner points found exactly on an input entity are dropped.
+        steiner_points.retain(|p| !bad.contains(p));
+        report.flips = add(report.flips, rec.flips);
+        report.time_recovery += t2.elapsed().as_secs_f64();
+        if stuck.is_empty() {
+            report.steiner_rounds = round;
+            let t3 = Instant::now();
+            let mut steiner = steiner;
+            steiner.extend(rec.steiner.iter().map(|&v| VertexId(v)));
+            // Try to take every Steiner point out again (paper §4.2's "remove or
+            // relocate"): the ones that are not needed go.
+            // Removing one can free another: repeat while a pass removes some.
+            let before = steiner.len();
+            for _ in 0..4 {
+                let n = steiner.len();
+                steiner.retain(|v| !rec.remove_vertex(v.0));
+                if steiner.len() == n {
+                    break;
+                }
+            }
+            report.steiner_removed = before - steiner.len();
+            let bm = finish(rec, surface, surface_vertex, steiner, &mut report)?;
+            report.time_domain = t3.elapsed().as_secs_f64();
+            return Ok((bm, report));
+        }
+        // Keep the Steiner set that left the fewest entities stuck; a worse round is
+        // reverted and retried with points closer to the entities.
+        if stuck.len() < best.0 {
+            best = (stuck.len(), steiner_points.clone(), stuck);
+        } else {
+            steiner_points = best.1.clone();
+        }
+        if round < options.steiner_rounds {
+            let scale = options.steiner_offset / (1 << round.min(30)) as f64;
+            for s in &best.2 {
+                steiner_points.extend(steiner_for(surface, *s, scale, round));
+            }
+        }
+    }
+    let stuck = best.2;
+    Err(BoundaryError::Unrecovered {
+        edges: stuck
+            .iter()
+            .filter(|s| matches!(s, Entity::Edge(..)))
+            .count(),
+        faces: stuck
+            .iter()
+            .filter(|s| matches!(s, Entity::Face(..)))
+            .count(),
+        rounds: options.steiner_rounds,
+        first: stuck
+            .first()
+            .map_or_else(String::new, |e| describe(surface, *e)),
+    })
+}
+
+/// A stuck input entity (input vertex / triangle ids).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Entity {
+    /// Edge with one of its triangles.
+    Edge(u32, u32, u32),
+    /// Triangle.
+    Face(u32),
+}
+
+fn add(a: FlipCounts, b: FlipCounts) -> FlipCounts {
+    FlipCounts {
+        flip23: a.flip23 + b.flip23,
+        flip32: a.flip32 + b.flip32,
+        flip44: a.flip44 + b.flip44,
+        edge_removals: a.edge_removals + b.edge_removals,
+        cones: a.cones + b.cones,
+        fans: a.fans + b.fans,
+    }
+}
+
+/// Unique input edges `(a, b, triangle)` with `a < b`, in a seeded shuffled order.
+fn input_edges(surface: &Surface) -> Vec<(u32, u32, u32)> {
+    let mut e: Vec<(u32, u32, u32)> = Vec::with_capacity(surface.triangles.len() * 3 / 2);
+    for (k, t) in surface.triangles.iter().enumerate() {
+        for i in 0..3 {
+            let (a, b) = (t[i], t[(i + 1) % 3]);
+            if a < b {
+                e.push((a, b, k as u32));
+            } else {
+                e.push((b, a, k as u32));
+            }
+        }
+    }
+    e.sort_unstable();
+    e.dedup_by_key(|x| (x.0, x.1));
+    e
+}
+
+/// The box mesh with the surface points and the Steiner points inserted.
+fn delaunay(
+    surface: &Surface,
+    steiner_points: &[Point],
+    options: &BoundaryOptions,
+) -> Result<(TetMesh, Vec<VertexId>, Vec<VertexId>), BoundaryError> {
+    let pts = &surface.vertices;
+    if let Some(index) = pts.iter().position(|p| !p.is_finite()) {
+        let p = pts[index];
+        return Err(DelaunayError::NonFinite {
+            index,
+            x: p.x,
+            y: p.y,
+            z: p.z,
+        }
+        .into());
+    }
+    let bb =
+        Aabb::of_points(pts.iter().chain(steiner_points)).ok_or(DelaunayError::Degenerate {
+            distinct: 0,
+            what: "fewer than four",
+        })?;
+    let ext = (bb.max - bb.min).max_element().max(f64::MIN_POSITIVE);
+    let m = Point::splat(ext * options.box_margin.max(0.01));
+    let (lo, hi) = (bb.min - m, bb.max + m);
+    let mut mesh = box_mesh(lo, hi)?;
+    mesh.reserve_vertices(pts.len() + steiner_points.len());
+    let mut kernel = Kernel::new();
+    kernel.set_bounds(lo, hi);
+    let mut surface_vertex = vec![VertexId(0); pts.len()];
+    for i in sort::brio_order(pts, options.seed) {
+        match kernel.insert(&mut mesh, pts[i as usize])? {
+            Inserted::New(v) => surface_vertex[i as usize] = v,
+            Inserted::Duplicate(v) => {
+                let first = (0..pts.len())
+                    .find(|&j| pts[j] == mesh.point(v))
+                    .unwrap_or(0);
+                let p = pts[i as usize];
+                return Err(BoundaryError::CoincidentVertices {
+                    first: first.min(i as usize),
+                    second: first.max(i as usize),
+                    x: p.x,
+                    y: p.y,
+                    z: p.z,
+                });
+            }
+        }
+    }
+    let mut steiner = Vec::with_capacity(steiner_points.len());
+    for &p in steiner_points {
+        if let Inserted::New(v) = kernel.insert(&mut mesh, p)? {
+            steiner.push(v);
+        }
+    }
+    Ok((mesh, surface_vertex, steiner))
+}
+
+/// Locks what is present, recovers the missing edges, then the missing faces; returns
+/// the entities still missing.
+fn recover_all(
+    rec: &mut Recovery,
+    surface: &Surface,
+    edges: &[(u32, u32, u32)],
+    sv: &[VertexId],
+    options: &BoundaryOptions,
+    report: &mut BoundaryReport,
+    round: usize,
+) -> Result<(Vec<Entity>, Vec<Point>), BoundaryError> {
+    let m = |i: u32| sv[i as usize].0;
+    let mut is_surface = vec![false; rec.l.mesh.num_vertices()];
+    for v in sv {
+        is_surface[v.index()] = true;
+    }
+    let mut bad: Vec<Point> = Vec::new();
+    let mut missing: Vec<(u32, u32, u32)> = Vec::new();
+    for &(a, b, t) in edges {
+        if rec.has_edge(m(a), m(b)) {
+            lock_edge(rec, m(a), m(b));
+        } else {
+            missing.push((a, b, t));
+        }
+    }
+    if round == 0 {
+        report.missing_edges = missing.len();
+    }
+    // Repeated passes: recovering one segment can unblock another.
+    let mut stuck_edges = Vec::new();
+    // First flips and cones only, then with Steiner points for what is left.
+    rec.allow_steiner = false;
+    for pass in 0..2 * MAX_PASSES {
+        if missing.is_empty() {
+            break;
+        }
+        if pass == MAX_PASSES {
+            rec.allow_steiner = true;
+        }
+        stuck_edges.clear();
+        for &(a, b, t) in &missing {
+            match rec.segment(m(a), m(b), options.flip_budget) {
+                Ok(()) => lock_edge(rec, m(a), m(b)),
+                Err(Stuck::Through(v)) if is_surface.get(v as usize) == Some(&true) => {
+                    return Err(on_entity(surface, sv, v, &[a, b]))
+                }
+                Err(Stuck::Through(v)) => {
+                    bad.push(rec.l.p(v));
+                    stuck_edges.push((a, b, t));
+                }
+                Err(Stuck::NoFlip) => stuck_edges.push((a, b, t)),
+            }
+        }
+        let progress = stuck_edges.len() < missing.len();
+        std::mem::swap(&mut missing, &mut stuck_edges);
+        if !progress {
+            if rec.allow_steiner {
+                break;
+            }
+            rec.allow_steiner = true;
+        }
+    }
+    // `missing` now holds what is still missing.
+    let mut stuck: Vec<Entity> = missing
+        .iter()
+        .map(|&(a, b, t)| Entity::Edge(a, b, t))
+        .collect();
+    let mut faces: Vec<u32> = Vec::new();
+    let mut missing_faces = 0;
+    for (k, t) in surface.triangles.iter().enumerate() {
+        let f = t.map(m);
+        if rec.has_face(f[0], f[1], f[2]) {
+            rec.locks.faces.insert(sorted(f));
+        } else {
+            missing_faces += 1;
+            if [(0, 1), (1, 2), (2, 0)]
+                .iter()
+                .all(|&(i, j)| rec.has_edge(f[i], f[j]))
+            {
+                faces.push(k as u32);
+            }
+        }
+    }
+    if round == 0 {
+        report.missing_faces = missing_faces;
+    }
+    let mut pending = faces;
+    let mut still = Vec::new();
+    for _pass in 0..MAX_PASSES {
+        if pending.is_empty() {
+            break;
+        }
+        still.clear();
+        for &k in &pending {
+            let f = surface.triangles[k as usize].map(m);
+            match rec.face(f, options.flip_budget) {
+                Ok(()) => {
+                    rec.locks.faces.insert(sorted(f));
+                }
+                Err(Stuck::Through(v)) if is_surface.get(v as usize) == Some(&true) => {
+                    return Err(on_entity(surface, sv, v, &surface.triangles[k as usize]))
+                }
+                Err(Stuck::Through(v)) => {
+                    bad.push(rec.l.p(v));
+                    still.push(k);
+                }
+                Err(Stuck::NoFlip) => still.push(k),
+            }
+        }
+        let progress = still.len() < pending.len();
+        std::mem::swap(&mut pending, &mut still);
+        if !progress {
+            break;
+        }
+    }
+    stuck.extend(pending.iter().map(|&k| Entity::Face(k)));
+    if stuck.is_empty() {
+        // Safety net: every input triangle must be a face now.
+        for (k, t) in surface.triangles.iter().enumerate() {
+            let f = t.map(m);
+            if !rec.has_face(f[0], f[1], f[2]) {
+                stuck.push(Entity::Face(k as u32));
+            }
+        }
+    }
+    // Faces skipped because an edge is stuck are covered by that edge's entry.
+    Ok((stuck, bad))
+}
+
+fn lock_edge(rec: &mut Recovery, a: u32, b: u32) {
+    rec.locks.edges.insert((a.min(b), a.max(b)));
+}
+
+fn sorted(mut f: [u32; 3]) -> [u32; 3] {
+    f.sort_unstable();
+    f
+}
+
+/// The error for a mesh vertex found exactly on an input entity.
+fn on_entity(surface: &Surface, sv: &[VertexId], v: u32, entity: &[u32]) -> BoundaryError {
+    let vertex = sv.iter().position(|x| x.0 == v).unwrap_or(usize::MAX);
+    let at = surface
+        .vertices
+        .get(vertex)
+        .map_or([f64::NAN; 3], |p| p.to_array());
+    let kind = if entity.len() == 2 {
+        "edge"
+    } else {
+        "triangle"
+    };
+    BoundaryError::VertexOnEntity {
+        vertex,
+        at,
+        entity: format!("{kind} {entity:?}"),
+    }
+}
+
+/// A stuck entity for an error message: ids and coordinates.
+fn describe(surface: &Surface, e: Entity) -> String {
+    let p = |i: u32| surface.vertices[i as usize].to_array();
+    match e {
+        Entity::Edge(a, b, _) => format!("edge ({a}, {b}) from {:?} to {:?}", p(a), p(b)),
+        Entity::Face(k) => {
+            let t = surface.triangles[k as usize];
+            format!(
+                "triangle {k} {t:?} at {:?}, {:?}, {:?}",
+                p(t[0]),
+                p(t[1]),
+                p(t[2])
+            )
+        }
+    }
+}
+
+/// Interior Steiner points for a stuck entity: off its middle on both sides of the
+/// surface, at `scale` times its size (more directions in later rounds).
+fn steiner_for(surface: &Surface, e: Entity, scale: f64, round: usize) -> Vec<Point> {
+    let v = &surface.vertices;
+    let normal = |k: u32| {
+        let [a, b, c] = surface.triangles[k as usize].map(|i| v[i as usize]);
+        (b - a).cross(c - a).normalize_or_zero()
+    };
+    let (mid, size, n) = match e {
+        // The size is the smallest height of the triangle(s) involved: on long thin
+        // triangles a point placed at a fraction of the edge length would land near
+        // unrelated parts of the surface.
+        Entity::Edge(a, b, t) => {
+            let (pa, pb) = (v[a as usize], v[b as usize]);
+            let len = (pb - pa).length();
+            ((pa + pb) * 0.5, len.min(min_height(surface, t)), normal(t))
+        }
+        Entity::Face(k) => {
+            let [a, b, c] = surface.triangles[k as usize].map(|i| v[i as usize]);
+            ((a + b + c) / 3.0, min_height(surface, k), normal(k))
+        }
+    };
+    // An irregular factor, so that points of neighbouring entities do not line up with
+    // the grid-like planes of CAD models (a point exactly on a face blocks it).
+    let key = match e {
+        Entity::Edge(a, b, _) => a as u64 * 0x9E37_79B9 + b as u64,
+        Entity::Face(k) => k as u64 * 0x85EB_CA6B + 7,
+    };
+    let jitter =
+        1.0 + 0.2 * ((key.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 11) as f64 / (1u64 << 53) as f64);
+    let d = n * size * scale * jitter;
+    let mut out = vec![mid - d, mid + d];
+    if round % 2 == 1 {
+        // A second pair, tilted, so that a rebuild does not meet the same tie again.
+        let t = n.any_orthonormal_vector() * size * scale * 0.5;
+        out.extend([mid - d + t, mid + d - t]);
+    }
+    out
+}
+
+/// The smallest height of triangle `k`.
+fn min_height(surface: &Surface, k: u32) -> f64 {
+    let [a, b, c] = surface.triangles[k as usize].map(|i| surface.vertices[i as usize]);
+    let area2 = (b - a).cross(c - a).length();
+    let longest = (b - a).length().max((c - b).length()).max((a - c).length());
+    if longest > 0.0 {
+        area2 / longest
+    } else {
+        0.0
+    }
+}
+
+/// Domain identification and the final mesh.
+fn finish(
+    rec: Recovery,
+    surface: &Surface,
+    surface_vertex: Vec<VertexId>,
+    steiner: Vec<VertexId>,
+    report: &mut BoundaryReport,
+) -> Result<BoundaryMesh, BoundaryError> {
+    let mesh = rec.l.mesh;
+    let mut constrained = HashMap::with_capacity(surface.triangles.len());
+    for (k, t) in surface.triangles.iter().enumerate() {
+        constrained.insert(sorted(t.map(|i| surface_vertex[i as usize].0)), k as u32);
+    }
+    let regions = domain::identify(&mesh, &constrained, surface)?;
+    report.regions = regions.count;
+    report.tets = regions.tets;
+    report.volume = regions.volume;
+    report.enclosed_volume = domain::enclosed_volume(surface);
+    let mut inside = vec![false; mesh.num_vertices()];
+    for t in mesh.finite_tets() {
+        if regions.region[t.index()] != 0 {
+            for v in mesh.tet(t) {
+                inside[v.index()] = true;
+            }
+        }
+    }
+    report.steiner_interior = steiner.iter().filter(|v| inside[v.index()]).count();
+    report.steiner_outside = steiner.len() - report.steiner_interior;
+    let bm = BoundaryMesh {
+        mesh,
+        region: regions.region,
+        surface_vertex,
+        box_corners: (0..8).map(VertexId).collect(),
+        steiner,
+        constrained,
+    };
+    Ok(bm)
+}
+
+impl BoundaryMesh {
+    /// The domain as an exchange mesh: the input vertices first, in input order, then
+    /// the interior Steiner points; tets with their region; the input triangles.
+    pub fn to_volume_mesh(&self, surface: &Surface) -> VolumeMesh {
+        let mut index = vec![u32::MAX; self.mesh.num_vertices()];
+        let mut vertices = Vec::with_capacity(self.surface_vertex.len() + self.steiner.len());
+        for v in &self.surface_vertex {
+            index[v.index()] = vertices.len() as u32;
+            vertices.push(self.mesh.point(*v));
+        }
+        let mut tets = Vec::new();
+        let mut tet_refs = Vec::new();
+        for t in self.mesh.finite_tets() {
+            let r = self.region[t.index()];
+            if r == 0 {
+                continue;
+            }
+            let tv = self.mesh.tet(t).map(|v| {
+                if index[v.index()] == u32::MAX {
+                    index[v.index()] = vertices.len() as u32;
+                    vertices.push(self.mesh.point(v));
+                }
+                index[v.index()]
+            });
+            tets.push(tv);
+            tet_refs.push(r as i32);
+        }
+        VolumeMesh {
+            vertices,
+            tets,
+            tet_refs,
+            triangles: surface.triangles.clone(),
+            triangle_refs: vec![1; surface.triangles.len()],
+            vertex_sizes: None,
+        }
+    }
+}

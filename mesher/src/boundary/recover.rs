@@ -1,0 +1,924 @@
+//! Recovery of the missing boundary edges and faces by flips (paper §4.2).
+//!
+//! A missing segment `ab` is attacked at the first simplex it crosses seen from `a` (then
+//! from `b`): a crossed face by a 2-3 flip that joins `a` to the apex behind the face,
+//! a crossed edge by removing it with the fan from `a` in its ring. Both shorten the
+//! chain of tets the segment crosses by at least one. When the 2-3 flip is not valid
+//! (the union of the two tets is not convex), the reflex edge of the face is removed
+//! first, as in Si's `flipnm` (TetGen; "TetGen, a Delaunay-based quality tetrahedral
+//! mesh generator", ACM TOMS 2015), one level deep.
+//!
+//! A missing triangle `abc` whose three edges exist is crossed near each of its edges
+//! by one ring edge of that edge; removing that crossing edge with the triangle `abc`
+//! forced into the ring polygon creates the face at once when the ring holds the three
+//! corners, and otherwise moves the crossing outward. Every loop here has a budget;
+//! running out reports the entity as stuck, never loops for ever.
+
+use super::flips::{flip23, remove_edge, Choice, FlipCounts, Locks};
+use super::local::Local;
+use crate::geom::predicates::Orientation;
+use crate::geom::Point;
+use crate::tetmesh::FACE_VERTICES;
+
+/// Largest set of tets a single search visits.
+const MAX_MET: usize = 4096;
+/// Largest ring for which an edge removal tries one preparatory removal per ring vertex.
+const MAX_HELP_RING: usize = 10;
+/// Growth steps of a cone region.
+const MAX_GROW: usize = 32;
+/// Largest cone region, in tets.
+const MAX_CONE: usize = 2048;
+
+/// What the segment from `a` towards `b` meets first.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Crossing {
+    /// The segment is an edge of the mesh.
+    Present,
+    /// It crosses the interior of the face opposite local vertex `i` (= `a`) of `t`.
+    Face(u32, usize),
+    /// It crosses the interior of edge `xy`.
+    Edge(u32, u32),
+    /// It passes through vertex `v` (an input defect: a vertex on a segment).
+    Vertex(u32),
+    /// No tet at `a` holds the direction (corrupt mesh).
+    Lost,
+}
+
+/// Why an entity could not be recovered.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Stuck {
+    /// No flip makes progress.
+    NoFlip,
+    /// Vertex `v` lies on the entity (exactly).
+    Through(u32),
+}
+
+/// The first simplex crossed by the segment from `a` to `b`.
+pub(crate) fn first_crossing(l: &Local, a: u32, b: u32, star: &mut Vec<u32>) -> Crossing {
+    l.star(a, star);
+    for &t in star.iter() {
+        if l.is_ghost(t) {
+            continue;
+        }
+        let v = l.tet(t);
+        if v.contains(&b) {
+            return Crossing::Present;
+        }
+        let Some(ia) = (0..4).find(|&i| v[i] == a) else {
+            continue;
+        };
+        let [x, y, z] = FACE_VERTICES[ia].map(|k| v[k]);
+        // With a on the positive side of (x, y, z), the direction of b is inside the
+        // cone at a over the face iff it is on the negative side of the three planes.
+        let s = [
+            l.orient(a, x, y, b),
+            l.orient(a, y, z, b),
+            l.orient(a, z, x, b),
+        ];
+        if s.contains(&Orientation::Positive) {
+            continue;
+        }
+        let zero = s.map(|o| o == Orientation::Zero);
+        return match zero {
+            [false, false, false] => Crossing::Face(t, ia),
+            [true, false, false] => Crossing::Edge(x, y),
+            [false, true, false] => Crossing::Edge(y, z),
+            [false, false, true] => Crossing::Edge(z, x),
+            [true, true, false] => Crossing::Vertex(y),
+            [false, true, true] => Crossing::Vertex(z),
+            [true, false, true] => Crossing::Vertex(x),
+            [true, true, true] => Crossing::Lost,
+        };
+    }
+    Crossing::Lost
+}
+
+/// The recovery state: the mesh, the locks, counters and scratch space.
+pub(crate) struct Recovery {
+    pub l: Local,
+    pub locks: Locks,
+    pub flips: FlipCounts,
+    /// Interior Steiner points inserted in Schönhardt fans.
+    pub steiner: Vec<u32>,
+    /// Whether Steiner points may be inserted (a second phase, after flips alone).
+    pub allow_steiner: bool,
+    scratch: Vec<u32>,
+    star: Vec<u32>,
+}
+
+impl Recovery {
+    pub fn new(l: Local) -> Self {
+        Recovery {
+            l,
+            locks: Locks::default(),
+            flips: FlipCounts::default(),
+            steiner: Vec::new(),
+            allow_steiner: false,
+            scratch: Vec::new(),
+            star: Vec::new(),
+        }
+    }
+
+    /// True when edge `ab` is in the mesh.
+    pub fn has_edge(&mut self, a: u32, b: u32) -> bool {
+        self.l.find_edge(a, b, &mut self.scratch).is_some()
+    }
+
+    /// True when face `abc` is in the mesh.
+    pub fn has_face(&mut self, a: u32, b: u32, c: u32) -> bool {
+        self.l.has_face(a, b, c, &mut self.scratch)
+    }
+
+    /// Recovers segment `ab` by flips within `budget` operations: first the simplex the
+    /// segment meets first from either end (progress is certain when the flip is
+    /// valid), else any flip among the simplices it crosses that lowers the number of
+    /// tets it meets (the full search), undone when it does not.
+    pub fn segment(&mut self, a: u32, b: u32, budget: usize) -> Result<(), Stuck> {
+        for _ in 0..budget {
+            self.l.forget();
+            let mut progressed = false;
+            let before = self.met_tets(a, b).map_or(usize::MAX, |m| m.len());
+            for (from, to) in [(a, b), (b, a)] {
+                let mark = self.l.mark();
+                match first_crossing(&self.l, from, to, &mut self.star) {
+                    Crossing::Present => return Ok(()),
+                    Crossing::Vertex(v) => return Err(Stuck::Through(v)),
+                    Crossing::Lost => return Err(Stuck::NoFlip),
+                    Crossing::Face(t, i) => progressed = self.unblock_face(t, i),
+                    Crossing::Edge(x, y) => {
+                        progressed = self.remove(x, y, Choice::FanFrom(from));
+                    }
+                }
+                // Only a strict decrease of the tets met counts: no cycles.
+                if progressed
+                    && !self.has_edge(a, b)
+                    && self.met_tets(a, b).is_none_or(|m| m.len() >= before)
+                {
+                    self.l.undo(mark);
+                    progressed = false;
+                }
+                if progressed {
+                    break;
+                }
+            }
+            if !progressed && !self.segment_full_search(a, b) {
+                break;
+            }
+        }
+        self.l.forget();
+        if self.has_edge(a, b) {
+            return Ok(());
+        }
+        // Flips are stuck (or cycle): a cone from an end point, else (when allowed) a
+        // Schönhardt fan with a Steiner point.
+        let done = [(a, b), (b, a)].iter().any(|&(p, q)| {
+            self.met_tets(p, q)
+                .is_some_and(|seed| self.cone(p, &seed, &[q]))
+        }) || (self.allow_steiner && self.schonhardt(a, b));
+        self.l.forget();
+        if done && self.has_edge(a, b) {
+            Ok(())
+        } else {
+            Err(Stuck::NoFlip)
+        }
+    }
+
+    /// The Schönhardt case: every tet the segment `ab` meets has the edge `xy`, a twisted
+    /// fan that no flip untwists. The fan is re-tetrahedralised with the edge `ab` and
+    /// one interior Steiner point `s`: the tet `(x, y, a, b)` takes the two end faces of
+    /// the fan, and the rest of the fan (its other faces and the two faces `abx`, `aby`)
+    /// is the cone from `s`, placed where it sees all of them (a compass search that
+    /// maximises the smallest volume). After Si's Steiner points in Schönhardt
+    /// polyhedra (TetGen, TOMS 2015); checked like every change.
+    pub(crate) fn schonhardt(&mut self, a: u32, b: u32) -> bool {
+        let Some(met) = self.met_tets(a, b) else {
+            return false;
+        };
+        let Some(&first) = met.first() else {
+            return false;
+        };
+        let common: Vec<u32> = self
+            .l
+            .tet(first)
+            .into_iter()
+            .filter(|v| met.iter().all(|&t| self.l.tet(t).contains(v)))
+            .collect();
+        let [x, y] = common[..] else {
+            return false;
+        };
+        if [x, y].contains(&a) || [x, y].contains(&b) {
+            return false;
+        }
+        let t0 = match self.l.orient(x, y, a, b) {
+            Orientation::Positive => [x, y, a, b],
+            Orientation::Negative => [y, x, a, b],
+            Orientation::Zero => return self.planar_fan(x, y, a, b),
+        };
+        // Faces of the rest: the fan's boundary faces other than its two end faces
+        // (those with both x and y), and the faces of t0 opposite x and y, reversed.
+        let mut faces: Vec<[u32; 3]> = Vec::new();
+        for &t in &met {
+            let v = self.l.tet(t);
+            let adj = self.l.adj(t);
+            for i in 0..4 {
+                let u = crate::tetmesh::FaceRef::from_raw(adj[i]).tet().0;
+                let f = FACE_VERTICES[i].map(|k| v[k]);
+                if met.contains(&u) || (f.contains(&x) && f.contains(&y)) {
+                    continue;
+                }
+                faces.push(f);
+            }
+        }
+        for fv in &FACE_VERTICES[..2] {
+            // Local vertices 0 and 1 of t0 are x and y; their opposite faces, reversed.
+            let f = fv.map(|k| t0[k]);
+            faces.push([f[0], f[2], f[1]]);
+        }
+        let Some(sp) = self.kernel_point(&faces) else {
+            return false;
+        };
+        let s = self.l.mesh.num_vertices() as u32;
+        self.l.mesh.push_vertex(sp);
+        let mut new = vec![t0];
+        new.extend(faces.iter().map(|f| [f[0], f[1], f[2], s]));
+        if self.l.replace(&met, &new).is_err() {
+            self.l.mesh.pop_vertex();
+            return false;
+        }
+        self.flips.fans += 1;
+        self.steiner.push(s);
+        true
+    }
+
+    /// Removes vertex `s` (a Steiner point, on no constrained entity): its star is
+    /// re-tetrahedralised as the cone from one of its neighbours that sees every face of
+    /// the star's boundary (tried in id order). Constrained edges and faces are never on
+    /// the inside of the star (they do not touch `s`), so they all stay.
+    pub fn remove_vertex(&mut self, s: u32) -> bool {
+        let mut star = Vec::new();
+        self.l.star(s, &mut star);
+        if star.is_empty() || star.iter().any(|&t| self.l.is_ghost(t)) {
+            return false;
+        }
+        let mut link: Vec<[u32; 3]> = Vec::with_capacity(star.len());
+        for &t in &star {
+            let v = self.l.tet(t);
+            let Some(i) = (0..4).find(|&i| v[i] == s) else {
+                return false;
+            };
+            link.push(FACE_VERTICES[i].map(|k| v[k]));
+        }
+        let mut nbrs: Vec<u32> = link.iter().flatten().copied().collect();
+        nbrs.sort_unstable();
+        nbrs.dedup();
+        for u in nbrs {
+            let new: Vec<[u32; 4]> = link
+                .iter()
+                .filter(|f| !f.contains(&u))
+                .map(|f| [f[0], f[1], f[2], u])
+                .collect();
+            if new
+                .iter()
+                .all(|t| self.l.orient(t[0], t[1], t[2], t[3]) == Orientation::Positive)
+                && self.l.replace(&star, &new).is_ok()
+            {
+                return true;
+            }
+        }
+        false
+    }
+
+    /// The flat case of [`Recovery::schonhardt`]: `a`, `b`, `x`, `y` are coplanar and the
+    /// segment `ab` crosses the edge `xy` (a flat quad `a x b y` with the other
+    /// diagonal). The ring of `xy` splits at `a` and `b` into two paths, one on each
+    /// side of the plane; each side is re-tetrahedralised with the triangles `abx` and
+    /// `aby` as its face on the plane: the cone from one of its own ring vertices when
+    /// one sees all its faces, else from an interior Steiner point.
+    fn planar_fan(&mut self, x: u32, y: u32, a: u32, b: u32) -> bool {
+        let Some(ring) = self.l.ring(x, y, &mut self.scratch) else {
+            return false;
+        };
+        let n = ring.len();
+        let (Some(ia), Some(ib)) = (
+            ring.iter().position(|r| r.1 == a),
+            ring.iter().position(|r| r.1 == b),
+        ) else {
+            return false;
+        };
+        let old: Vec<u32> = ring.iter().map(|r| r.0).collect();
+        let mut new: Vec<[u32; 4]> = Vec::new();
+        let mut added = 0;
+        for (from, to) in [(ia, ib), (ib, ia)] {
+            // Ring tets k (between ring[k] and ring[k+1]) from `from` to `to`.
+            let mut tets = Vec::new();
+            let mut k = from;
+            while k != to {
+                tets.push(k);
+                k = (k + 1) % n;
+            }
+            if tets.len() < 2 {
+                self.pop_added(added);
+                return false;
+            }
+            let inner = ring[(from + 1) % n].1;
+            let mut faces: Vec<[u32; 3]> = Vec::new();
+            for &k in &tets {
+                let (p, q) = (ring[k].1, ring[(k + 1) % n].1);
+                // Tet (x, y, p, q) is positive: its faces opposite y and x, seen inside.
+                faces.push([x, p, q]);
+                faces.push([y, q, p]);
+            }
+            for w in [x, y] {
+                let f = if self.l.orient(a, b, w, inner) == Orientation::Positive {
+                    [a, b, w]
+                } else {
+                    [b, a, w]
+                };
+                faces.push(f);
+            }
+            // Candidates: the path's own vertices, then a and b themselves.
+            let apex = tets
+                .iter()
+                .skip(1)
+                .map(|&k| ring[k].1)
+                .chain([a, b])
+                .find(|&w| {
+                    faces
+                        .iter()
+                        .filter(|f| !f.contains(&w))
+                        .all(|f| self.l.orient(f[0], f[1], f[2], w) == Orientation::Positive)
+                });
+            let apex = match apex {
+                Some(w) => w,
+                None => {
+                    let Some(sp) = self.kernel_point(&faces) else {
+                        self.pop_added(added);
+                        return false;
+                    };
+                    added += 1;
+                    self.l.mesh.push_vertex(sp).0
+                }
+            };
+            new.extend(
+                faces
+                    .iter()
+                    .filter(|f| !f.contains(&apex))
+                    .map(|f| [f[0], f[1], f[2], apex]),
+            );
+        }
+        if self.l.replace(&old, &new).is_err() {
+            self.pop_added(added);
+            return false;
+        }
+        let nv = self.l.mesh.num_vertices() as u32;
+        self.steiner.extend(nv - added as u32..nv);
+        self.flips.fans += 1;
+        true
+    }
+
+    fn pop_added(&mut self, added: usize) {
+        for _ in 0..added {
+            self.l.mesh.pop_vertex();
+        }
+    }
+
+    /// A point strictly on the positive side of every face (inexact search, exact
+    /// check), or `None`: a compass search maximising the smallest scaled volume.
+    fn kernel_point(&self, faces: &[[u32; 3]]) -> Option<Point> {
+        let pts: Vec<[Point; 3]> = faces.iter().map(|f| f.map(|v| self.l.p(v))).collect();
+        let n = (pts.len() * 3) as f64;
+        let mut c = pts.iter().flatten().copied().sum::<Point>() / n;
+        let size = pts
+            .iter()
+            .flatten()
+            .map(|p| (*p - c).length())
+            .fold(0.0, f64::max);
+        if size.is_nan() || size <= 0.0 {
+            return None;
+        }
+        let score = |q: Point| {
+            pts.iter()
+                .map(|[a, b, d]| (*b - *a).cross(*d - *a).dot(q - *a))
+                .fold(f64::INFINITY, f64::min)
+        };
+        let mut best = score(c);
+        let mut step = size * 0.25;
+        let dirs = [
+            Point::X,
+            Point::NEG_X,
+            Point::Y,
+            Point::NEG_Y,
+            Point::Z,
+            Point::NEG_Z,
+        ];
+        for _ in 0..400 {
+            let mut moved = false;
+            for d in dirs {
+                let q = c + d * step;
+                let v = score(q);
+                if v > best {
+                    best = v;
+                    c = q;
+                    moved = true;
+                }
+            }
+            if !moved {
+                step *= 0.5;
+                if step < size * 1e-6 {
+                    break;
+                }
+            }
+        }
+        let ok = pts.iter().all(|[a, b, d]| {
+            crate::geom::predicates::orient3d(*a, *b, *d, c) == Orientation::Positive
+        });
+        ok.then_some(c)
+    }
+
+    /// One flip anywhere along `ab` that lowers the number of tets the segment meets.
+    fn segment_full_search(&mut self, a: u32, b: u32) -> bool {
+        let Some(met) = self.met_tets(a, b) else {
+            return false;
+        };
+        let before = met.len();
+        let mut faces = Vec::new();
+        let mut edges: Vec<(u32, u32)> = Vec::new();
+        for &t in &met {
+            let v = self.l.tet(t);
+            let adj = self.l.adj(t);
+            for i in 0..4 {
+                let f = FACE_VERTICES[i].map(|k| v[k]);
+                let u = crate::tetmesh::FaceRef::from_raw(adj[i]).tet().0;
+                if t < u && met.contains(&u) && !f.contains(&a) && !f.contains(&b) {
+                    faces.push((t, i));
+                }
+            }
+            for (i, j) in [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)] {
+                let (x, y) = (v[i].min(v[j]), v[i].max(v[j]));
+                if ![a, b].contains(&x)
+                    && ![a, b].contains(&y)
+                    && !edges.contains(&(x, y))
+                    && self.l.orient(a, b, x, y) == Orientation::Zero
+                {
+                    edges.push((x, y));
+                }
+            }
+        }
+        for (t, i) in faces {
+            let mark = self.l.mark();
+            if flip23(&mut self.l, &self.locks, t, i, &mut self.flips).is_ok() {
+                if self.met_tets(a, b).is_some_and(|m| m.len() < before) {
+                    return true;
+                }
+                self.l.undo(mark);
+            }
+        }
+        for (x, y) in edges {
+            let mark = self.l.mark();
+            if self.remove(x, y, Choice::Best) {
+                if self.has_edge(a, b) || self.met_tets(a, b).is_some_and(|m| m.len() < before) {
+                    return true;
+                }
+                self.l.undo(mark);
+            }
+        }
+        false
+    }
+
+    /// The tets the open segment `ab` meets (closed tets), found by a search from the
+    /// tets at `a` over the faces the line through `a` and `b` passes through; `None`
+    /// past [`MAX_MET`] tets.
+    pub(crate) fn met_tets(&mut self, a: u32, b: u32) -> Option<Vec<u32>> {
+        let l = &self.l;
+        l.star(a, &mut self.star);
+        let mut out: Vec<u32> = Vec::new();
+        for &t in &self.star {
+            if l.is_ghost(t) {
+                continue;
+            }
+            let v = l.tet(t);
+            let Some(ia) = (0..4).find(|&i| v[i] == a) else {
+                continue;
+            };
+            let [x, y, z] = FACE_VERTICES[ia].map(|k| v[k]);
+            let s = [
+                l.orient(a, x, y, b),
+                l.orient(a, y, z, b),
+                l.orient(a, z, x, b),
+            ];
+            if !s.contains(&Orientation::Positive) {
+                out.push(t);
+            }
+        }
+        let mut seen: std::collections::HashSet<u32> = out.iter().copied().collect();
+        let mut k = 0;
+        while k < out.len() {
+            if out.len() > MAX_MET {
+                return None;
+            }
+            let t = out[k];
+            k += 1;
+            let v = l.tet(t);
+            if v.contains(&b) {
+                continue;
+            }
+            let adj = l.adj(t);
+            for i in 0..4 {
+                let f = FACE_VERTICES[i].map(|j| v[j]);
+                if f.contains(&a) {
+                    continue;
+                }
+                let u = crate::tetmesh::FaceRef::from_raw(adj[i]).tet().0;
+                if l.is_ghost(u) || seen.contains(&u) {
+                    continue;
+                }
+                let s = [
+                    l.orient(a, b, f[0], f[1]),
+                    l.orient(a, b, f[1], f[2]),
+                    l.orient(a, b, f[2], f[0]),
+                ];
+                if s.contains(&Orientation::Positive) && s.contains(&Orientation::Negative) {
+                    continue;
+                }
+                seen.insert(u);
+                out.push(u);
+            }
+        }
+        Some(out)
+    }
+
+    /// Removes edge `xy`; if that fails, first removes one edge from `x` or `y` to a
+    /// vertex of its ring (which changes the ring), undone when `xy` still cannot go:
+    /// one level of Si's `flipnm`.
+    fn remove(&mut self, x: u32, y: u32, choice: Choice) -> bool {
+        if self.remove_once(x, y, choice) {
+            return true;
+        }
+        let Some(ring) = self.l.ring(x, y, &mut self.scratch) else {
+            return false;
+        };
+        if ring.len() > MAX_HELP_RING {
+            return false;
+        }
+        for &(_, p) in &ring {
+            for z in [x, y] {
+                if self.locks.edge(z, p) {
+                    continue;
+                }
+                let mark = self.l.mark();
+                if !self.remove_once(z, p, Choice::Best) {
+                    continue;
+                }
+                if self.remove_once(x, y, choice) {
+                    return true;
+                }
+                self.l.undo(mark);
+            }
+        }
+        false
+    }
+
+    fn remove_once(&mut self, x: u32, y: u32, choice: Choice) -> bool {
+        remove_edge(
+            &mut self.l,
+            &self.locks,
+            x,
+            y,
+            choice,
+            &mut self.scratch,
+            &mut self.flips,
+        )
+        .is_ok()
+    }
+
+    /// Removes the face opposite vertex `i` of `t` by a 2-3 flip, or else removes one of
+    /// its edges (the reflex one first) so that a later 2-3 flip can succeed.
+    fn unblock_face(&mut self, t: u32, i: usize) -> bool {
+        if flip23(&mut self.l, &self.locks, t, i, &mut self.flips).is_ok() {
+            return true;
+        }
+        let v = self.l.tet(t);
+        let f = FACE_VERTICES[i].map(|k| v[k]);
+        let d = v[i];
+        let nb = crate::tetmesh::FaceRef::from_raw(self.l.adj(t)[i]);
+        if self.l.is_ghost(nb.tet().0) {
+            return false;
+        }
+        let e = self.l.tet(nb.tet().0)[nb.facet()];
+        // The edges of the face that the segment de passes on the wrong side of.
+        let mut edges: Vec<(u32, u32)> = Vec::new();
+        for k in 0..3 {
+            let (p, q) = (f[k], f[(k + 1) % 3]);
+            if self.l.orient(p, q, d, e) != Orientation::Negative {
+                edges.insert(0, (p, q));
+            } else {
+                edges.push((p, q));
+            }
+        }
+        edges
+            .into_iter()
+            .any(|(p, q)| self.remove(p, q, Choice::Best))
+    }
+
+    /// Recovers triangle `abc` (its edges present) by flips within `budget` operations:
+    /// first the edge crossing the triangle next to one of its edges, removed with the
+    /// triangle forced into its ring when possible; else any crossing edge whose
+    /// removal lowers the number of crossing edges (undone when it does not).
+    pub fn face(&mut self, tri: [u32; 3], budget: usize) -> Result<(), Stuck> {
+        for _ in 0..budget {
+            self.l.forget();
+            if self.has_face(tri[0], tri[1], tri[2]) {
+                return Ok(());
+            }
+            let mut progressed = false;
+            for k in 0..3 {
+                let (u, w, o) = (tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3]);
+                match self.crossing_edge(u, w, o) {
+                    Ok(Some((p, q))) => {
+                        if self.remove(p, q, Choice::With([u, w, o])) {
+                            progressed = true;
+                            break;
+                        }
+                    }
+                    Ok(None) => {}
+                    Err(s) => return Err(s),
+                }
+            }
+            if !progressed && !self.face_full_search(tri) {
+                let seed = self.crossing_tets(tri).unwrap_or_default();
+                let done = (0..3).any(|k| {
+                    let others = [tri[(k + 1) % 3], tri[(k + 2) % 3]];
+                    self.cone(tri[k], &seed, &others)
+                });
+                self.l.forget();
+                return if done && self.has_face(tri[0], tri[1], tri[2]) {
+                    Ok(())
+                } else {
+                    Err(Stuck::NoFlip)
+                };
+            }
+        }
+        self.l.forget();
+        if self.has_face(tri[0], tri[1], tri[2]) {
+            Ok(())
+        } else {
+            Err(Stuck::NoFlip)
+        }
+    }
+
+    /// One edge removal that lowers the number of edges crossing triangle `tri`.
+    fn face_full_search(&mut self, tri: [u32; 3]) -> bool {
+        let Some(cross) = self.crossing_edges(tri) else {
+            return false;
+        };
+        let before = cross.len();
+        for (p, q) in cross {
+            for choice in [Choice::With(tri), Choice::Best] {
+                let mark = self.l.mark();
+                if self.remove(p, q, choice) {
+                    if self.has_face(tri[0], tri[1], tri[2])
+                        || self.crossing_edges(tri).is_some_and(|c| c.len() < before)
+                    {
+                        return true;
+                    }
+                    self.l.undo(mark);
+                }
+            }
+        }
+        false
+    }
+
+    /// The mesh edges that cross the open triangle `tri` (whose edges exist).
+    fn crossing_edges(&mut self, tri: [u32; 3]) -> Option<Vec<(u32, u32)>> {
+        self.crossing(tri).map(|c| c.0)
+    }
+
+    /// The tets with an edge crossing the open triangle `tri`.
+    fn crossing_tets(&mut self, tri: [u32; 3]) -> Option<Vec<u32>> {
+        self.crossing(tri).map(|c| c.1)
+    }
+
+    /// The mesh edges that cross the open triangle `tri` (whose edges exist) and the
+    /// tets that have them: a search over such tets from the rings of its edges.
+    #[allow(clippy::type_complexity)]
+    fn crossing(&mut self, tri: [u32; 3]) -> Option<(Vec<(u32, u32)>, Vec<u32>)> {
+        let mut todo: Vec<u32> = Vec::new();
+        for k in 0..3 {
+            let ring = self.l.ring(tri[k], tri[(k + 1) % 3], &mut self.scratch)?;
+            todo.extend(ring.iter().map(|r| r.0));
+        }
+        let mut seen: std::collections::HashSet<u32> = todo.iter().copied().collect();
+        let mut edges: Vec<(u32, u32)> = Vec::new();
+        let mut tets: Vec<u32> = Vec::new();
+        while let Some(t) = todo.pop() {
+            if seen.len() > MAX_MET {
+                return None;
+            }
+            let v = self.l.tet(t);
+            let mut any = false;
+            for (i, j) in [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)] {
+                let (x, y) = (v[i].min(v[j]), v[i].max(v[j]));
+                if self.crosses(tri, x, y) {
+                    any = true;
+                    if !edges.contains(&(x, y)) {
+                        edges.push((x, y));
+                    }
+                }
+            }
+            if !any {
+                continue;
+            }
+            tets.push(t);
+            for a in self.l.adj(t) {
+                let u = crate::tetmesh::FaceRef::from_raw(a).tet().0;
+                if !self.l.is_ghost(u) && seen.insert(u) {
+                    todo.push(u);
+                }
+            }
+        }
+        Some((edges, tets))
+    }
+
+    /// Re-tetrahedralises a region as the cone from vertex `apex`: the region starts as
+    /// the star of `apex` plus `seed`, and grows across every boundary face that `apex`
+    /// does not see, until all are seen (then every boundary face `f` gives the tet
+    /// `(f, apex)`) or a budget, the hull or a constrained face stops it. Refused (and
+    /// undone) if a vertex would be lost, a constrained edge or face would disappear,
+    /// or a vertex of `keep` would not be on the region's boundary.
+    fn cone(&mut self, apex: u32, seed: &[u32], keep: &[u32]) -> bool {
+        self.cone_region(apex, seed, keep, false) || self.cone_region(apex, seed, keep, true)
+    }
+
+    /// [`Recovery::cone`] from `seed` alone (faces at `apex` stay on the boundary) or
+    /// from `seed` plus the whole star of `apex`.
+    fn cone_region(&mut self, apex: u32, seed: &[u32], keep: &[u32], with_star: bool) -> bool {
+        let mut region: Vec<u32> = Vec::new();
+        if with_star {
+            self.l.star(apex, &mut region);
+        }
+        let mut inside: std::collections::HashSet<u32> = region.iter().copied().collect();
+        for &t in seed {
+            if inside.insert(t) {
+                region.push(t);
+            }
+        }
+        let mut new: Vec<[u32; 4]> = Vec::new();
+        for _ in 0..MAX_GROW {
+            if region.len() > MAX_CONE || region.iter().any(|&t| self.l.is_ghost(t)) {
+                return false;
+            }
+            new.clear();
+            let mut grow = Vec::new();
+            for &t in &region {
+                let v = self.l.tet(t);
+                let adj = self.l.adj(t);
+                for i in 0..4 {
+                    let u = crate::tetmesh::FaceRef::from_raw(adj[i]).tet().0;
+                    if inside.contains(&u) {
+                        continue;
+                    }
+                    let f = FACE_VERTICES[i].map(|k| v[k]);
+                    if f.contains(&apex) {
+                        continue;
+                    }
+                    if self.l.orient(f[0], f[1], f[2], apex) == Orientation::Positive {
+                        new.push([f[0], f[1], f[2], apex]);
+                    } else if self.locks.face(f) || self.l.is_ghost(u) {
+                        return false;
+                    } else {
+                        grow.push(u);
+                    }
+                }
+            }
+            if grow.is_empty() {
+                break;
+            }
+            for u in grow {
+                if inside.insert(u) {
+                    region.push(u);
+                }
+            }
+        }
+        if new.is_empty() {
+            return false;
+        }
+        // Every vertex of the region must stay: the apex or on a boundary face.
+        let mut on_boundary: std::collections::HashSet<u32> =
+            new.iter().flat_map(|t| t[..3].iter().copied()).collect();
+        on_boundary.insert(apex);
+        if !with_star {
+            // Vertices only on boundary faces at the apex stay too.
+            for &t in &region {
+                let v = self.l.tet(t);
+                let adj = self.l.adj(t);
+                for i in 0..4 {
+                    let u = crate::tetmesh::FaceRef::from_raw(adj[i]).tet().0;
+                    if !inside.contains(&u) {
+                        on_boundary.extend(FACE_VERTICES[i].map(|k| v[k]));
+                    }
+                }
+            }
+        }
+        if keep.iter().any(|k| !on_boundary.contains(k)) {
+            return false;
+        }
+        let mut locked_edges = Vec::new();
+        let mut locked_faces = Vec::new();
+        for &t in &region {
+            let v = self.l.tet(t);
+            if v.iter().any(|x| !on_boundary.contains(x)) {
+                return false;
+            }
+            for (i, j) in [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)] {
+                if self.locks.edge(v[i], v[j]) {
+                    locked_edges.push((v[i], v[j]));
+                }
+            }
+            for f in FACE_VERTICES {
+                let f = f.map(|k| v[k]);
+                if self.locks.face(f) {
+                    locked_faces.push(f);
+                }
+            }
+        }
+        let mark = self.l.mark();
+        if self.l.replace(&region, &new).is_err() {
+            return false;
+        }
+        let kept = locked_edges.iter().all(|&(x, y)| self.has_edge(x, y))
+            && locked_faces.iter().all(|f| self.has_face(f[0], f[1], f[2]));
+        if !kept {
+            self.l.undo(mark);
+            return false;
+        }
+        self.flips.cones += 1;
+        true
+    }
+
+    /// True when edge `xy` crosses the open triangle `t` at one interior point.
+    fn crosses(&self, t: [u32; 3], x: u32, y: u32) -> bool {
+        if t.contains(&x) || t.contains(&y) {
+            return false;
+        }
+        let l = &self.l;
+        let (sx, sy) = (l.orient(t[0], t[1], t[2], x), l.orient(t[0], t[1], t[2], y));
+        if sx == Orientation::Zero || sy == Orientation::Zero || sx == sy {
+            return false;
+        }
+        let s = [
+            l.orient(x, y, t[0], t[1]),
+            l.orient(x, y, t[1], t[2]),
+            l.orient(x, y, t[2], t[0]),
+        ];
+        s[0] != Orientation::Zero && s[0] == s[1] && s[1] == s[2]
+    }
+
+    /// The ring edge of edge `uw` that triangle `uwo` passes through (`None` if the
+    /// triangle leaves the ring through a face, which a later step resolves).
+    fn crossing_edge(&mut self, u: u32, w: u32, o: u32) -> Result<Option<(u32, u32)>, Stuck> {
+        let Some(ring) = self.l.ring(u, w, &mut self.scratch) else {
+            return Ok(None);
+        };
+        let n = ring.len();
+        for k in 0..n {
+            let (p, q) = (ring[k].1, ring[(k + 1) % n].1);
+            if p == o || q == o {
+                return Ok(None);
+            }
+            let s1 = self.l.orient(u, w, p, o);
+            let s2 = self.l.orient(u, w, o, q);
+            if s1 == Orientation::Positive && s2 == Orientation::Positive {
+                return Ok(Some((p, q)));
+            }
+            if s1 == Orientation::Zero && self.in_triangle(p, [u, w, o]) {
+                return Err(Stuck::Through(p));
+            }
+        }
+        Ok(None)
+    }
+
+    /// True when vertex `p`, coplanar with triangle `t`, lies in its closed interior
+    /// minus the corners (the angular tests around the three edges).
+    fn in_triangle(&self, p: u32, t: [u32; 3]) -> bool {
+        // Project along the normal: use the sign of orient(a, b, p, apex) with an apex
+        // off the plane; any tet vertex off the plane serves. A cheap exact way: p is
+        // inside iff it is on the same side of each edge as the opposite corner, tested
+        // with orient3d against a lifted point.
+        let (a, b, c) = (self.l.p(t[0]), self.l.p(t[1]), self.l.p(t[2]));
+        let n = (b - a).cross(c - a);
+        let lift = a + n;
+        let pp = self.l.p(p);
+        use crate::geom::predicates::orient3d;
+        let s = [
+            orient3d(a, b, lift, pp),
+            orient3d(b, c, lift, pp),
+            orient3d(c, a, lift, pp),
+        ];
+        let r = [
+            orient3d(a, b, lift, c),
+            orient3d(b, c, lift, a),
+            orient3d(c, a, lift, b),
+        ];
+        (0..3).all(|k| s[k] == r[k] || s[k] == Orientation::Zero)
+    }
+}

@@ -1,0 +1,144 @@
+//! Unit tests of the boundary mesh on generated surfaces.
+
+use super::*;
+use crate::surface::generate::{cube, icosphere, torus};
+
+fn check(surface: &Surface) -> (BoundaryMesh, BoundaryReport) {
+    let (bm, r) = boundary_mesh(surface, &BoundaryOptions::default()).unwrap();
+    bm.mesh.validate(false).unwrap();
+    let mut s = Vec::new();
+    let l = Local::new(bm.mesh.clone());
+    for t in &surface.triangles {
+        let f = t.map(|i| bm.surface_vertex[i as usize].0);
+        assert!(
+            l.has_face(f[0], f[1], f[2], &mut s),
+            "triangle {t:?} missing"
+        );
+    }
+    let rel = (r.volume - r.enclosed_volume).abs() / r.enclosed_volume.abs();
+    assert!(
+        rel < 1e-9,
+        "volume {} vs enclosed {}",
+        r.volume,
+        r.enclosed_volume
+    );
+    (bm, r)
+}
+
+#[test]
+fn sphere_cube_torus_are_recovered_with_their_volume() {
+    for s in [icosphere(2), cube(3), torus(24, 12, 2.0, 0.5)] {
+        let (_, r) = check(&s);
+        assert_eq!(r.regions, 1);
+        assert_eq!(r.steiner_on_edges + r.steiner_on_faces, 0);
+    }
+}
+
+#[test]
+fn thin_torus_needs_flips() {
+    // A thin, coarse torus: many surface edges are not Delaunay.
+    let s = torus(40, 5, 3.0, 0.2);
+    let (_, r) = check(&s);
+    assert!(r.missing_edges + r.missing_faces > 0, "{r:?}");
+}
+
+#[test]
+fn open_surface_is_refused_with_its_defect() {
+    let mut s = icosphere(1);
+    s.triangles.pop();
+    let e = boundary_mesh(&s, &BoundaryOptions::default()).unwrap_err();
+    assert!(matches!(e, BoundaryError::Defective { .. }), "{e}");
+    assert!(e.to_string().contains("open"), "{e}");
+}
+
+#[test]
+fn box_delaunay_is_valid() {
+    for s in [icosphere(2), cube(3)] {
+        let (mesh, _, _) = delaunay(&s, &[], &BoundaryOptions::default()).unwrap();
+        mesh.validate(true).unwrap();
+    }
+}
+
+/// A developer's tool: what blocks the first stuck edges of `MODEL` (a surface file)
+/// before any Steiner round. `MODEL=path cargo test -p mesher --lib debug_model --
+/// --ignored --nocapture`.
+#[test]
+#[ignore]
+fn debug_model() {
+    let path = std::env::var("MODEL").unwrap();
+    let s = crate::io::read_surface(std::path::Path::new(&path))
+        .unwrap()
+        .surface;
+    let opts = BoundaryOptions {
+        steiner_rounds: 0,
+        ..BoundaryOptions::default()
+    };
+    let edges = input_edges(&s);
+    let (mesh, sv, _) = delaunay(&s, &[], &opts).unwrap();
+    let mut rec = Recovery::new(Local::new(mesh));
+    let mut report = BoundaryReport::default();
+    let (stuck, _) = recover_all(&mut rec, &s, &edges, &sv, &opts, &mut report, 0).unwrap();
+    eprintln!("stuck {} of missing {}", stuck.len(), report.missing_edges);
+    let m = |i: u32| sv[i as usize].0;
+    for e in stuck.iter().take(3) {
+        let Entity::Edge(a, b, _) = *e else { continue };
+        let (a, b) = (m(a), m(b));
+        let met = rec.met_tets(a, b).unwrap();
+        let common: Vec<u32> = rec
+            .l
+            .tet(met[0])
+            .iter()
+            .copied()
+            .filter(|v| met.iter().all(|&t| rec.l.tet(t).contains(v)))
+            .collect();
+        eprintln!(
+            "met {} tets, common vertices {common:?}: {:?}",
+            met.len(),
+            met.iter().map(|&t| rec.l.tet(t)).collect::<Vec<_>>()
+        );
+        let mut star = Vec::new();
+        for (f, t) in [(a, b), (b, a)] {
+            let c = recover::first_crossing(&rec.l, f, t, &mut star);
+            eprintln!("edge {a}-{b} from {f}: {c:?}");
+            match c {
+                recover::Crossing::Edge(x, y) => {
+                    let mut sc = Vec::new();
+                    let ring = rec.l.ring(x, y, &mut sc).unwrap();
+                    let locked = rec.locks.edge(x, y);
+                    eprintln!(
+                        "  ring of {x}-{y} (locked {locked}): {:?}",
+                        ring.iter().map(|r| r.1).collect::<Vec<_>>()
+                    );
+                }
+                recover::Crossing::Face(t, i) => {
+                    let v = rec.l.tet(t);
+                    let nb = crate::tetmesh::FaceRef::from_raw(rec.l.adj(t)[i]);
+                    let e = rec.l.tet(nb.tet().0)[nb.facet()];
+                    let fv = crate::tetmesh::FACE_VERTICES[i].map(|k| v[k]);
+                    let sides: Vec<_> = (0..3)
+                        .map(|k| rec.l.orient(fv[k], fv[(k + 1) % 3], v[i], e))
+                        .collect();
+                    let locked: Vec<_> = (0..3)
+                        .map(|k| rec.locks.edge(fv[k], fv[(k + 1) % 3]))
+                        .collect();
+                    eprintln!(
+                        "  face {fv:?} apex {} other {e}: sides {sides:?} locked {locked:?}",
+                        v[i]
+                    );
+                    for k in 0..3 {
+                        let mut sc = Vec::new();
+                        if let Some(ring) = rec.l.ring(fv[k], fv[(k + 1) % 3], &mut sc) {
+                            eprintln!(
+                                "   ring of {}-{}: {:?}",
+                                fv[k],
+                                fv[(k + 1) % 3],
+                                ring.iter().map(|r| r.1).collect::<Vec<_>>()
+                            );
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+}
