@@ -50,6 +50,9 @@ impl Runner for Ours {
             id: "ours",
             name: "ours",
             keeps_boundary: true,
+            sized: true,
+            slow: false,
+            configuration: "mesher mesh INPUT -o out.mesh".into(),
         }
     }
 
