@@ -23,6 +23,8 @@ pub enum Status {
     InvalidOutput,
     /// The input was refused before meshing (dirty model), as expected.
     Refused,
+    /// Not run by choice: a slow peer outside `--limit-slow`'s smallest models.
+    Skipped,
 }
 
 /// Validity of an output mesh, measured by the harness.
@@ -111,6 +113,9 @@ pub struct Record {
     /// Mean input edge length handed to peers that need a size (fTetWild).
     #[serde(default)]
     pub edge_length: Option<f64>,
+    /// The runner's configuration in one line (switches, size policy).
+    #[serde(default)]
+    pub configuration: Option<String>,
 }
 
 impl Record {

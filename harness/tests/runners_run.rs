@@ -63,3 +63,65 @@ fn unknown_mesher_is_an_error() {
     assert!(!r.status.success());
     assert!(String::from_utf8_lossy(&r.stderr).contains("unknown mesher"));
 }
+
+/// `harness compare`: records in OUT/run, the report in OUT; `--limit-slow 0` turns every
+/// row of a slow peer into a `skipped` row without running it.
+#[test]
+fn compare_runs_then_reports_and_limits_slow_peers() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("ball.off");
+    mesher::io::write_surface(&input, &mesher::surface::generate::icosphere(1)).unwrap();
+    let out = dir.path().join("latest");
+    let r = harness(&[
+        "compare",
+        "--input",
+        input.to_str().unwrap(),
+        "--meshers",
+        "tetgen-y,ftetwild",
+        "--limit-slow",
+        "0",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let rows = harness::records::read_jsonl(&out.join("run/results.jsonl")).unwrap();
+    assert_eq!(rows.len(), 2);
+    let ft = rows.iter().find(|r| r.mesher == "ftetwild").unwrap();
+    assert_eq!(ft.status, harness::records::Status::Skipped);
+    assert!(ft.wall_seconds.is_none(), "a skipped peer must not run");
+    assert!(rows.iter().all(|r| r.configuration.is_some()));
+    for f in ["index.html", "table.md", "table.tex"] {
+        assert!(out.join(f).is_file(), "{f} missing");
+    }
+    let md = std::fs::read_to_string(out.join("table.md")).unwrap();
+    assert!(md.contains("skipped"), "{md}");
+    assert!(
+        md.contains("tetgen -pYq1.414 in.smesh"),
+        "configuration note missing"
+    );
+}
+
+#[test]
+fn limit_slow_keeps_the_smallest_models_of_each_tier() {
+    let model = |id: &str, tier: &str, triangles| harness::run::Model {
+        id: id.into(),
+        path: Default::default(),
+        tier: tier.into(),
+        category: "convex".into(),
+        triangles,
+        error: None,
+    };
+    let models = [
+        model("a", "ci", 500),
+        model("b", "ci", 12),
+        model("c", "ci", 12),
+        model("d", "ci", 46),
+        model("e", "dirty", 5000),
+    ];
+    let mut keep: Vec<String> = harness::run::slow_models(&models, Some(2))
+        .into_iter()
+        .collect();
+    keep.sort();
+    assert_eq!(keep, ["b", "c", "e"]);
+    assert_eq!(harness::run::slow_models(&models, None).len(), 5);
+}

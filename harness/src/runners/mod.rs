@@ -156,10 +156,11 @@ pub fn venv_python() -> PathBuf {
 /// Arguments of `harness run`.
 #[derive(clap::Args, Debug)]
 pub struct RunArgs {
-    /// Corpus tier to run (ci, nightly, large, dirty).
-    #[arg(long, default_value = "ci")]
-    pub corpus: String,
-    /// Output directory for results (default `reports/runs/<UTC stamp>`).
+    /// Corpus tier selections to run, comma-separated (ci, nightly, large, dirty, all).
+    #[arg(long, value_delimiter = ',', default_value = "ci")]
+    pub corpus: Vec<String>,
+    /// Output directory for results (default `reports/runs/<UTC stamp>`; for `harness
+    /// compare`: the report folder, default `reports/latest`, with the records in `run/`).
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Comma-separated runner ids (default: every registered runner).
@@ -180,6 +181,10 @@ pub struct RunArgs {
     /// Keep each run's work directory (output meshes, logs) under `OUT/work`.
     #[arg(long)]
     pub keep_meshes: bool,
+    /// Run the slow peers (fTetWild) only on the N smallest models (by input triangles)
+    /// of each tier; their other rows are `skipped`.
+    #[arg(long, value_name = "N")]
+    pub limit_slow: Option<usize>,
 }
 
 /// `harness run`.
