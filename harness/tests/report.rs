@@ -79,6 +79,43 @@ fn markdown_has_table1_numbers_statuses_and_notes() {
     assert!(!md.contains("sphere1k: the surface is the limit"));
 }
 
+/// Every plot also exists as a PNG of the plot's size that decodes and is not blank: a
+/// good share of white background, some pixels of the first mesher's colour (bars or
+/// points) and dark pixels (text and axes, so the font was found).
+#[test]
+fn pngs_decode_and_are_not_blank() {
+    let dir = tempfile::tempdir().unwrap();
+    let files = report_into(dir.path());
+    let pngs: Vec<&PathBuf> = files
+        .iter()
+        .filter(|p| p.extension().is_some_and(|x| x == "png"))
+        .collect();
+    let svgs = files
+        .iter()
+        .filter(|p| p.extension().is_some_and(|x| x == "svg"))
+        .count();
+    assert_eq!(pngs.len(), svgs, "one PNG per SVG");
+    for png in pngs {
+        assert!(png.with_extension("svg").is_file(), "{}", png.display());
+        let pixels = decode_rgb(png);
+        assert_eq!(pixels.len(), 760 * 420, "{}", png.display());
+        let white = share_of(&pixels, [255, 255, 255]);
+        let series = share_of(&pixels, [31, 119, 180]);
+        let dark = pixels.iter().filter(|p| p.iter().all(|&c| c < 80)).count();
+        assert!(
+            white > 0.3 && white < 0.999,
+            "{}: white {white}",
+            png.display()
+        );
+        assert!(series > 0.0005, "{}: series colour {series}", png.display());
+        assert!(
+            dark > 200,
+            "{}: {dark} dark pixels (no text?)",
+            png.display()
+        );
+    }
+}
+
 #[test]
 fn latex_is_escaped() {
     let dir = tempfile::tempdir().unwrap();
