@@ -318,6 +318,9 @@ fn measure(
         .ok()
         .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
         .and_then(|m| m["mesh_seconds"].as_f64());
+    // Ours writes its front statistics there (`mesher mesh --stats`).
+    rec.front = records::read_front(&work.join(crate::runners::ours::STATS_NAME));
+    rec.iterations = rec.front.as_ref().map(Vec::len);
     let mesh = match mesher::io::read_volume(&out.mesh) {
         Ok(m) => m,
         Err(e) => {
@@ -417,6 +420,7 @@ fn blank_record(ctx: &Context_, model: &Model, info: &crate::runners::PeerInfo) 
         mesh_seconds: None,
         edge_length: None,
         configuration: Some(info.configuration.clone()),
+        front: None,
     }
 }
 

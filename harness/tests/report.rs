@@ -116,6 +116,55 @@ fn pngs_decode_and_are_not_blank() {
     }
 }
 
+/// A record with a front series (ours, once `mesher mesh --stats` exists) gets a front
+/// convergence plot in its model's section.
+#[test]
+fn front_series_is_plotted() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = read(&fixture_dir().join("results.jsonl"));
+    let first = text.lines().next().unwrap();
+    let mut rec: harness::records::Record = serde_json::from_str(first).unwrap();
+    rec.mesher = "ours".into();
+    rec.front = Some(
+        [
+            (2560, 2400, 2100),
+            (3900, 3500, 2900),
+            (1200, 900, 700),
+            (80, 40, 30),
+        ]
+        .map(
+            |(front, proposed, inserted)| harness::records::FrontIteration {
+                front,
+                proposed,
+                inserted,
+            },
+        )
+        .to_vec(),
+    );
+    let jsonl = format!("{text}{}\n", serde_json::to_string(&rec).unwrap());
+    std::fs::write(dir.path().join("results.jsonl"), jsonl).unwrap();
+    let out = dir.path().join("report");
+    write_report(dir.path(), &out).unwrap();
+    let stem = format!("front-{}-ours", rec.model);
+    for ext in ["svg", "png"] {
+        assert!(out.join(format!("{stem}.{ext}")).is_file(), "{stem}.{ext}");
+    }
+    assert!(read(&out.join("index.html")).contains(&format!("{stem}.svg")));
+    let none = tempfile::tempdir().unwrap();
+    write_report(&fixture_dir(), none.path()).unwrap();
+    let fronts = std::fs::read_dir(none.path())
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .file_name()
+                .to_string_lossy()
+                .starts_with("front-")
+        })
+        .count();
+    assert_eq!(fronts, 0, "no series, no front plot");
+}
+
 #[test]
 fn latex_is_escaped() {
     let dir = tempfile::tempdir().unwrap();

@@ -9,7 +9,7 @@ use mesher::quality::Histogram;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::records::{Record, Status};
+use crate::records::{FrontIteration, Record, Status};
 use crate::report::data::{tets_per_second, RunData};
 use crate::report::render::{render, Figure};
 use crate::report::table::mesher_label;
@@ -41,6 +41,9 @@ pub enum PlotKind {
     EdgeLength,
     /// Tets/s versus tets across the corpus.
     Rate,
+    /// Front convergence of one model (ours): front size, points proposed and inserted
+    /// per iteration.
+    Front,
 }
 
 /// One written plot.
@@ -127,8 +130,40 @@ pub fn write_all(run: &RunData, out: &Path) -> Result<Vec<Plot>, ReportError> {
             )?);
         }
     }
+    for m in 0..run.models.len() {
+        plots.extend(front_plots(run, m, out)?);
+    }
     if let Some(p) = rate_plot(run, out)? {
         plots.push(p);
+    }
+    Ok(plots)
+}
+
+/// One front convergence plot per mesher of model `m` whose record has a series.
+fn front_plots(run: &RunData, m: usize, out: &Path) -> Result<Vec<Plot>, ReportError> {
+    let mut plots = Vec::new();
+    for k in 0..run.meshers.len() {
+        let Some(front) = run.get(m, k).and_then(|r| r.front.as_deref()) else {
+            continue;
+        };
+        if front.is_empty() {
+            continue;
+        }
+        let (model, mesher) = (&run.models[m].id, &run.meshers[k].id);
+        let title = format!("{model}: front convergence ({mesher})");
+        let fig = FrontFigure {
+            title: &title,
+            front,
+        };
+        let stem = format!("front-{}-{}", slug(model), slug(mesher));
+        plots.push(write_figure(
+            out,
+            &stem,
+            &fig,
+            title.clone(),
+            Some(m),
+            PlotKind::Front,
+        )?);
     }
     Ok(plots)
 }
@@ -314,6 +349,79 @@ impl Figure for RateFigure<'_> {
                 .map_err(text)?
                 .label(label.clone())
                 .legend(move |(x, y)| Circle::new((x + 6, y), 5, c.filled()));
+        }
+        legend(chart)
+    }
+}
+
+/// Picks one count out of a front iteration.
+type PickCount = fn(&FrontIteration) -> usize;
+
+/// Front faces, points proposed and inserted per iteration (the paper's convergence
+/// figure), linear axes.
+struct FrontFigure<'a> {
+    title: &'a str,
+    front: &'a [FrontIteration],
+}
+
+impl Figure for FrontFigure<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+        let n = self.front.len();
+        let y_max = self
+            .front
+            .iter()
+            .map(|f| f.front.max(f.proposed).max(f.inserted))
+            .max()
+            .unwrap_or(1)
+            .max(1) as f64
+            * 1.1;
+        let mut chart = ChartBuilder::on(root)
+            .caption(self.title, ("sans-serif", 22))
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(75)
+            .build_cartesian_2d(1f64..(n.max(2) as f64), 0f64..y_max)
+            .map_err(text)?;
+        chart
+            .configure_mesh()
+            .label_style(("sans-serif", 15))
+            .axis_desc_style(("sans-serif", 15))
+            .light_line_style(TRANSPARENT)
+            .x_desc("iteration")
+            .y_desc("count")
+            .x_labels(n.clamp(2, 12))
+            .x_label_formatter(&|x| {
+                let whole = (x - x.round()).abs() < 1e-6;
+                if whole {
+                    format!("{x:.0}")
+                } else {
+                    String::new()
+                }
+            })
+            .y_label_formatter(&|y| format!("{y:.0}"))
+            .draw()
+            .map_err(text)?;
+        let series: [(&str, PickCount); 3] = [
+            ("front faces", |f| f.front),
+            ("points proposed", |f| f.proposed),
+            ("points inserted", |f| f.inserted),
+        ];
+        for (j, (label, pick)) in series.into_iter().enumerate() {
+            let c = color(j);
+            let pts: Vec<(f64, f64)> = self
+                .front
+                .iter()
+                .enumerate()
+                .map(|(i, f)| ((i + 1) as f64, pick(f) as f64))
+                .collect();
+            chart
+                .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))
+                .map_err(text)?
+                .label(label)
+                .legend(move |(x, y)| PathElement::new([(x, y), (x + 14, y)], c.stroke_width(2)));
+            chart
+                .draw_series(pts.into_iter().map(|p| Circle::new(p, 3, c.filled())))
+                .map_err(text)?;
         }
         legend(chart)
     }
