@@ -331,6 +331,14 @@ fn measure(
             )
         }
     };
+    if mesh.tets.is_empty() {
+        // A peer that gives up on an open surface may still exit 0 with an empty file.
+        return finish(
+            rec,
+            Status::InvalidOutput,
+            Some("the output has no tetrahedra".into()),
+        );
+    }
     let moved_boundary = (!keeps).then(|| metrics::boundary_surface(&mesh));
     match metrics::measure_output(input, surface, mesh, keeps) {
         Ok(mut m) => {

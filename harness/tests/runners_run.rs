@@ -125,3 +125,46 @@ fn limit_slow_keeps_the_smallest_models_of_each_tier() {
     assert_eq!(keep, ["b", "c", "e"]);
     assert_eq!(harness::run::slow_models(&models, None).len(), 5);
 }
+
+/// Gmsh's Delaunay exits 0 with an empty mesh on an open surface (seen on the dirty
+/// tier's elephant-with-holes): that is an `invalid-output` row, not `ok`.
+#[test]
+fn an_empty_output_is_not_ok() {
+    let gmsh = std::process::Command::new(harness::runners::venv_python())
+        .args(["-c", "import gmsh"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !gmsh {
+        assert!(std::env::var_os("CI").is_none(), "gmsh missing and CI set");
+        eprintln!("skipping: gmsh not installed (scripts/setup.sh --peers)");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let mut open = mesher::surface::generate::icosphere(2);
+    open.triangles.truncate(open.triangles.len() - 3);
+    let input = dir.path().join("open.off");
+    mesher::io::write_surface(&input, &open).unwrap();
+    let out = dir.path().join("out");
+    let r = harness(&[
+        "run",
+        "--input",
+        input.to_str().unwrap(),
+        "--meshers",
+        "gmsh-delaunay",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let rows = harness::records::read_jsonl(&out.join("results.jsonl")).unwrap();
+    assert_eq!(rows.len(), 1);
+    assert_ne!(
+        rows[0].status,
+        harness::records::Status::Ok,
+        "{:?}",
+        rows[0]
+    );
+    if rows[0].exit_code == Some(0) {
+        assert_eq!(rows[0].status, harness::records::Status::InvalidOutput);
+    }
+    eprintln!("open surface: {:?} {:?}", rows[0].status, rows[0].message);
+}
