@@ -7,7 +7,8 @@
 # build and `harness compare` with every registered runner: tetgen, tetgen-y, cgal,
 # ftetwild, gmsh-hxt, gmsh-delaunay, their -sized configurations, and ours (listed as
 # missing until `mesher mesh` exists). fTetWild takes minutes per model: when CI is set
-# it runs on the 5 smallest models of each tier only (--limit-slow 5).
+# it runs on the 5 smallest models of the ci tier only (--limit-slow 5: the N smallest
+# of each clean tier, no dirty model).
 #
 # Usage: scripts/compare.sh [extra harness compare arguments, e.g. --timeout 300]
 set -euo pipefail

@@ -119,13 +119,19 @@ fn kebab(name: &str) -> String {
     out
 }
 
-/// The models a slow peer runs on under `--limit-slow N`: the N smallest of each tier
-/// (by input triangles, then id); all of them without a limit.
+/// The models a slow peer runs on under `--limit-slow N`: the N smallest of each clean
+/// tier (by input triangles, then id) and no dirty model (the dirty tier's largest,
+/// `man`, would take a slow peer longer than the rest of the run); all of them without
+/// a limit.
 pub fn slow_models(models: &[Model], limit: Option<usize>) -> HashSet<String> {
     let Some(n) = limit else {
         return models.iter().map(|m| m.id.clone()).collect();
     };
-    let mut tiers: Vec<&str> = models.iter().map(|m| m.tier.as_str()).collect();
+    let mut tiers: Vec<&str> = models
+        .iter()
+        .map(|m| m.tier.as_str())
+        .filter(|t| *t != "dirty")
+        .collect();
     tiers.sort_unstable();
     tiers.dedup();
     let mut keep = HashSet::new();
@@ -199,7 +205,7 @@ fn skipped(ctx: &Context_, model: &Model, runner: &dyn Runner, limit: usize) -> 
     let mut rec = blank_record(ctx, model, &runner.info());
     rec.input_faces = model.triangles;
     let why = format!(
-        "slow peer: --limit-slow {limit} runs it on the {limit} smallest models of each tier"
+        "slow peer: --limit-slow {limit} runs it on the {limit} smallest models of each clean tier only"
     );
     finish(rec, Status::Skipped, Some(why))
 }

@@ -102,7 +102,7 @@ fn compare_runs_then_reports_and_limits_slow_peers() {
 }
 
 #[test]
-fn limit_slow_keeps_the_smallest_models_of_each_tier() {
+fn limit_slow_keeps_the_smallest_models_of_each_clean_tier() {
     let model = |id: &str, tier: &str, triangles| harness::run::Model {
         id: id.into(),
         path: Default::default(),
@@ -116,14 +116,15 @@ fn limit_slow_keeps_the_smallest_models_of_each_tier() {
         model("b", "ci", 12),
         model("c", "ci", 12),
         model("d", "ci", 46),
-        model("e", "dirty", 5000),
+        model("e", "dirty", 5),
+        model("f", "nightly", 20_000),
     ];
     let mut keep: Vec<String> = harness::run::slow_models(&models, Some(2))
         .into_iter()
         .collect();
     keep.sort();
-    assert_eq!(keep, ["b", "c", "e"]);
-    assert_eq!(harness::run::slow_models(&models, None).len(), 5);
+    assert_eq!(keep, ["b", "c", "f"], "the dirty tier gets no slow peer");
+    assert_eq!(harness::run::slow_models(&models, None).len(), 6);
 }
 
 /// Gmsh's Delaunay exits 0 with an empty mesh on an open surface (seen on the dirty

@@ -182,7 +182,7 @@ pub struct RunArgs {
     #[arg(long)]
     pub keep_meshes: bool,
     /// Run the slow peers (fTetWild) only on the N smallest models (by input triangles)
-    /// of each tier; their other rows are `skipped`.
+    /// of each clean tier, and on no dirty model; their other rows are `skipped`.
     #[arg(long, value_name = "N")]
     pub limit_slow: Option<usize>,
 }
