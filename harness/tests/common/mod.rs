@@ -63,3 +63,28 @@ fn build_cgal_binary() -> Option<PathBuf> {
         .ok()?;
     status.success().then(CgalMesh3::locate).flatten()
 }
+
+/// The repository root (the workspace above this crate).
+pub fn repo_root() -> PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("harness lives in the workspace")
+        .to_path_buf()
+}
+
+/// True when the fetched part of the corpus cache is there; skips (or fails under CI)
+/// if not.
+pub fn corpus_cache_present() -> bool {
+    let cache = repo_root().join("corpus/cache");
+    let present = ["cgal/meshes", "netgen", "gmsh"]
+        .iter()
+        .all(|d| cache.join(d).is_dir());
+    if !present {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "CI is set but corpus/cache is missing: run scripts/fetch-corpus.sh"
+        );
+        eprintln!("skipped: corpus/cache missing (run scripts/fetch-corpus.sh)");
+    }
+    present
+}
