@@ -8,7 +8,7 @@
 # ftetwild, gmsh-hxt, gmsh-delaunay, their -sized configurations, and ours (listed as
 # missing until `mesher mesh` exists). fTetWild takes minutes per model: when CI is set
 # it runs on the 5 smallest models of the ci tier only (--limit-slow 5: the N smallest
-# of each clean tier, no dirty model).
+# of each clean tier, no dirty model), and each run's time limit is 120 s.
 #
 # Usage: scripts/compare.sh [extra harness compare arguments, e.g. --timeout 300]
 set -euo pipefail
@@ -22,7 +22,9 @@ cargo build --release -q -p harness -p reference --bins
 cargo build --release -q -p mesher --bin mesher || echo "compare: mesher does not build; ours will be missing" >&2
 limit=()
 if [ -n "${CI:-}" ]; then
-  limit=(--limit-slow 5)
+  # Every ci-tier run takes under 20 s here; on the dirty tier CGAL can spend its whole
+  # time limit on the self-intersecting `man` (a timeout row either way): 120 s, not 600.
+  limit=(--limit-slow 5 --timeout 120)
 fi
 target/release/harness compare --corpus ci,dirty --out reports/latest "${limit[@]}" "$@"
 echo "compare: open reports/latest/index.html"
