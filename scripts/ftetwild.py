@@ -5,11 +5,13 @@ Called by the harness runner `harness/src/runners/ftetwild.rs`, which builds the
 line and runs it in a scratch folder (pytetwild writes `__tracked_surface.stl` into the
 working directory):
 
-    ftetwild.py --input domain.json --output out.mesh --meta meta.json --edge-length H
+    ftetwild.py --input domain.json --output out.mesh --meta meta.json --edge-length H [--sized]
 
 `domain.json` is the double-precision surface the Gmsh runner uses too (only
 `vertices` and `triangles` are read: fTetWild finds the inside by winding number).
 Options: edge_length_abs = H (the harness passes the mean input edge length), one thread,
+with --sized also the background size field of `domain.json` (`background`: a tet mesh
+with a size per vertex, pytetwild's bg_vertices / bg_tets / bg_values);
 every other option at pytetwild's default (epsilon 1e-3 of the box, optimize, simplify).
 fTetWild moves the boundary within its envelope. Its tets may come out negatively
 oriented; they are written as returned and the harness normalises the orientation.
@@ -42,6 +44,7 @@ def main():
     ap.add_argument("--output", required=True)
     ap.add_argument("--meta", required=True)
     ap.add_argument("--edge-length", type=float, required=True)
+    ap.add_argument("--sized", action="store_true", help="sizes from the domain's background")
     a = ap.parse_args()
     try:
         import numpy as np
@@ -53,14 +56,25 @@ def main():
         dom = json.load(f)
     v = np.asarray(dom["vertices"], dtype=np.float64)
     t = np.asarray(dom["triangles"], dtype=np.int32)
+    extra = {}
+    if a.sized:
+        bg = dom["background"]
+        extra = {
+            "bg_vertices": np.asarray(bg["vertices"], dtype=np.float64),
+            "bg_tets": np.asarray(bg["tets"], dtype=np.int32),
+            "bg_values": np.asarray(bg["values"], dtype=np.float64),
+        }
     t0 = time.perf_counter()
-    ov, ot = pytetwild.tetrahedralize(v, t, edge_length_abs=a.edge_length, num_threads=1)
+    ov, ot = pytetwild.tetrahedralize(
+        v, t, edge_length_abs=a.edge_length, num_threads=1, **extra
+    )
     seconds = time.perf_counter() - t0
     write_medit(a.output, [tuple(map(float, p)) for p in ov], ot.tolist())
     meta = {
         "version": pytetwild.__version__,
         "edge_length_abs": a.edge_length,
         "num_threads": 1,
+        "sized": a.sized,
         "mesh_seconds": seconds,
     }
     with open(a.meta, "w") as f:

@@ -4,6 +4,7 @@
 Called by the harness runner `harness/src/runners/gmsh.rs`, which builds the command line:
 
     gmsh_tet.py --input domain.json --output out.msh --meta meta.json --algorithm hxt|delaunay
+                [--sized]
 
 `domain.json` holds the surface in double precision (no STL round trip, which is float32):
 {"vertices": [[x, y, z], ...], "triangles": [[i, j, k], ...] (0-based),
@@ -11,7 +12,11 @@ Called by the harness runner `harness/src/runners/gmsh.rs`, which builds the com
 Each shell becomes one discrete surface carrying exactly the input triangles, each volume
 one surface loop per shell (outer first, then holes) and one Gmsh volume. Options:
 Mesh.Algorithm3D 10 (HXT) or 1 (Delaunay), General.NumThreads 1, sizes from the boundary
-(Gmsh's default). Output: `.msh` 4.1 ASCII through gmsh.write when the output name ends
+(Gmsh's default). With --sized, the sizes come only from `domain.json`'s `background`
+({"vertices", "tets", "values"}: a tet mesh carrying a size per vertex): it becomes a
+list-based view (scalar tets) and a PostView field set as the background mesh, which
+Gmsh interpolates linearly; sizes from the boundary, points and curvature are switched
+off so that the field alone decides. Output: `.msh` 4.1 ASCII through gmsh.write when the output name ends
 in .msh; Medit `.mesh` written from the API's doubles with round-trip precision when it
 ends in .mesh (the harness uses this one: Gmsh's ASCII .msh prints 16 significant digits,
 which moves some input vertices by one unit in the last place). `meta.json` gets the Gmsh
@@ -45,6 +50,23 @@ def build_model(gmsh, dom):
     gmsh.model.geo.synchronize()
 
 
+def add_background_field(gmsh, bg):
+    """The background sizes as a PostView field (scalar tets, linear interpolation)."""
+    verts, values = bg["vertices"], bg["values"]
+    data = []
+    for tet in bg["tets"]:
+        for axis in range(3):
+            data.extend(verts[v][axis] for v in tet)
+        data.extend(values[v] for v in tet)
+    view = gmsh.view.add("sizes")
+    gmsh.view.addListData(view, "SS", len(bg["tets"]), data)
+    field = gmsh.model.mesh.field.add("PostView")
+    gmsh.model.mesh.field.setNumber(field, "ViewTag", view)
+    gmsh.model.mesh.field.setAsBackgroundMesh(field)
+    for option in ("MeshSizeExtendFromBoundary", "MeshSizeFromPoints", "MeshSizeFromCurvature"):
+        gmsh.option.setNumber("Mesh." + option, 0)
+
+
 def write_medit(gmsh, path):
     """Every node and every linear tet of the model, coordinates printed with repr()."""
     tags, coords, _ = gmsh.model.mesh.getNodes()
@@ -68,6 +90,7 @@ def main():
     ap.add_argument("--output", required=True)
     ap.add_argument("--meta", required=True)
     ap.add_argument("--algorithm", choices=sorted(ALGORITHMS), required=True)
+    ap.add_argument("--sized", action="store_true", help="sizes from the domain's background")
     a = ap.parse_args()
     try:
         import gmsh
@@ -85,6 +108,11 @@ def main():
         gmsh.option.setNumber("Mesh.Binary", 0)
         gmsh.model.add("domain")
         build_model(gmsh, dom)
+        if a.sized:
+            if "background" not in dom:
+                print("--sized: domain.json has no background", file=sys.stderr)
+                return 1
+            add_background_field(gmsh, dom["background"])
         t0 = time.perf_counter()
         gmsh.model.mesh.generate(3)
         seconds = time.perf_counter() - t0
@@ -96,6 +124,7 @@ def main():
             "version": gmsh.__version__,
             "algorithm3d": ALGORITHMS[a.algorithm],
             "num_threads": 1,
+            "sized": a.sized,
             "mesh_seconds": seconds,
         }
         with open(a.meta, "w") as f:

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The main job (for now, until the harness issue replaces it by the comparison report):
-# generates a sphere surface, checks it, and builds the Delaunay tetrahedralisation of
+# A demo of the Delaunay kernel (the main job is scripts/compare.sh, the comparison
+# report): generates a sphere surface, checks it, and builds the Delaunay tetrahedralisation of
 # its vertices and of 10^6 random points, writing the meshes and statistics to
 # reports/out/.
 set -euo pipefail

@@ -8,7 +8,8 @@ venv="${MESHER_VENV:-$root/.venv}"
 # g++ builds the CGAL driver (reference/build.rs); time (/usr/bin/time -v) is used by scripts/bench-kernel.sh.
 apt_pkgs=(tetgen libcgal-dev libgmp-dev libmpfr-dev g++ time python3-venv)
 # chromium: harness/tests/report.rs renders the HTML report headless and checks the screenshot.
-apt_pkgs+=(chromium)
+# fonts-dejavu-core: the font `harness report` lays out plot text with (SVG and PNG).
+apt_pkgs+=(chromium fonts-dejavu-core)
 # apt_ensure PKG...: installs the packages that are not installed yet (one apt run).
 apt_ensure() {
   local missing=() p sudo_cmd=""

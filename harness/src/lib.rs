@@ -2,8 +2,10 @@
 //! mesher and its peers (TetGen, CGAL Mesh_3, fTetWild, Gmsh), metrics computed only
 //! through `mesher::quality` from each output file, records, and reports.
 //!
-//! Measuring (`run`) is separate from reporting (`report`): reports read records only.
+//! Measuring (`run`) is separate from reporting (`report`): reports read records only;
+//! `compare` chains the two.
 
+pub mod compare;
 pub mod corpus;
 pub mod metrics;
 pub mod records;

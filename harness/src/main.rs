@@ -21,6 +21,8 @@ enum Command {
     Run(harness::runners::RunArgs),
     /// Render tables and plots from recorded runs (never runs a mesher).
     Report(harness::report::ReportArgs),
+    /// Run, then report: records in OUT/run, the report in OUT (default reports/latest).
+    Compare(harness::compare::CompareArgs),
 }
 
 fn main() -> std::process::ExitCode {
@@ -28,6 +30,7 @@ fn main() -> std::process::ExitCode {
         Command::Corpus(a) => harness::corpus::cli(a),
         Command::Run(a) => harness::runners::cli(a),
         Command::Report(a) => harness::report::cli(a),
+        Command::Compare(a) => harness::compare::cli(a),
     };
     match result {
         Ok(code) => code,

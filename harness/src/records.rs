@@ -23,6 +23,8 @@ pub enum Status {
     InvalidOutput,
     /// The input was refused before meshing (dirty model), as expected.
     Refused,
+    /// Not run by choice: a slow peer outside `--limit-slow`'s smallest models.
+    Skipped,
 }
 
 /// Validity of an output mesh, measured by the harness.
@@ -41,6 +43,34 @@ pub struct Validity {
     /// Hausdorff distance between the input surface and the output boundary, relative to
     /// the bounding-box diagonal (peers that move the boundary).
     pub hausdorff: Option<f64>,
+}
+
+/// One iteration of the advancing front (ours), as `mesher mesh --stats FILE` reports
+/// it: the paper's front convergence curve (NOTES.md §7).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct FrontIteration {
+    /// Faces in the front at the start of the iteration.
+    pub front: usize,
+    /// Field points proposed.
+    pub proposed: usize,
+    /// Field points inserted (after filtration).
+    pub inserted: usize,
+}
+
+/// The statistics file of `mesher mesh --stats FILE` as far as the harness reads it.
+#[derive(Clone, Debug, Default, Deserialize)]
+pub struct MesherStats {
+    /// One entry per front iteration.
+    #[serde(default)]
+    pub iterations: Vec<FrontIteration>,
+}
+
+/// The front iterations in a `mesher mesh --stats` file; `None` when the file is absent
+/// or unreadable (the record then simply has no series).
+pub fn read_front(path: &Path) -> Option<Vec<FrontIteration>> {
+    let text = std::fs::read_to_string(path).ok()?;
+    let stats: MesherStats = serde_json::from_str(&text).ok()?;
+    (!stats.iterations.is_empty()).then_some(stats.iterations)
 }
 
 /// One measured run.
@@ -111,6 +141,12 @@ pub struct Record {
     /// Mean input edge length handed to peers that need a size (fTetWild).
     #[serde(default)]
     pub edge_length: Option<f64>,
+    /// The runner's configuration in one line (switches, size policy).
+    #[serde(default)]
+    pub configuration: Option<String>,
+    /// Per-iteration front statistics (ours only).
+    #[serde(default)]
+    pub front: Option<Vec<FrontIteration>>,
 }
 
 impl Record {

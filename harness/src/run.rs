@@ -33,6 +33,8 @@ pub struct Model {
     pub tier: String,
     /// Category (convex, cad, ...; `unknown` for `--input` files).
     pub category: String,
+    /// Input triangles (the manifest's count; read from the file for `--input`).
+    pub triangles: usize,
     /// Why the model's file could not be provided (rows get a status instead of a run).
     pub error: Option<String>,
 }
@@ -51,11 +53,20 @@ pub fn models(args: &RunArgs) -> anyhow::Result<Vec<Model>> {
                 path: p.clone(),
                 tier: "adhoc".into(),
                 category: "unknown".into(),
+                triangles: mesher::io::read_surface(p).map_or(0, |r| r.surface.triangles.len()),
                 error: None,
             })
             .collect()
     } else {
-        corpus_models(&args.corpus)?
+        let mut all: Vec<Model> = Vec::new();
+        for selection in &args.corpus {
+            for m in corpus_models(selection)? {
+                if !all.iter().any(|a| a.id == m.id) {
+                    all.push(m);
+                }
+            }
+        }
+        all
     };
     if !args.models.is_empty() {
         out.retain(|m| args.models.contains(&m.id));
@@ -89,6 +100,7 @@ fn corpus_models(tier: &str) -> anyhow::Result<Vec<Model>> {
                 path,
                 tier: kebab(&format!("{:?}", m.tier)),
                 category: kebab(&format!("{:?}", m.category)),
+                triangles: m.triangles,
                 error,
             }
         })
@@ -107,9 +119,41 @@ fn kebab(name: &str) -> String {
     out
 }
 
+/// The models a slow peer runs on under `--limit-slow N`: the N smallest of each clean
+/// tier (by input triangles, then id) and no dirty model (the dirty tier's largest,
+/// `man`, would take a slow peer longer than the rest of the run); all of them without
+/// a limit.
+pub fn slow_models(models: &[Model], limit: Option<usize>) -> HashSet<String> {
+    let Some(n) = limit else {
+        return models.iter().map(|m| m.id.clone()).collect();
+    };
+    let mut tiers: Vec<&str> = models
+        .iter()
+        .map(|m| m.tier.as_str())
+        .filter(|t| *t != "dirty")
+        .collect();
+    tiers.sort_unstable();
+    tiers.dedup();
+    let mut keep = HashSet::new();
+    for tier in tiers {
+        let mut of_tier: Vec<&Model> = models.iter().filter(|m| m.tier == tier).collect();
+        of_tier.sort_by(|a, b| (a.triangles, &a.id).cmp(&(b.triangles, &b.id)));
+        keep.extend(of_tier.into_iter().take(n).map(|m| m.id.clone()));
+    }
+    keep
+}
+
 /// `harness run`.
 pub fn cli(args: RunArgs) -> anyhow::Result<ExitCode> {
-    let models = models(&args)?;
+    execute(&args)?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Runs every selected model × mesher into `args.out` (or a stamped folder under
+/// `reports/runs`) and returns that folder (absolute).
+pub fn execute(args: &RunArgs) -> anyhow::Result<PathBuf> {
+    let models = models(args)?;
+    let slow_ok = slow_models(&models, args.limit_slow);
     let runners = select_runners(&args.meshers)?;
     let out = args.out.clone().unwrap_or_else(default_out_dir);
     std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
@@ -120,6 +164,8 @@ pub fn cli(args: RunArgs) -> anyhow::Result<ExitCode> {
     } else {
         Vec::new()
     };
+    // A skipped pair is not done: a resumed run with a larger limit runs it.
+    rows.retain(|r| r.status != Status::Skipped);
     let done: HashSet<(String, String)> = rows
         .iter()
         .map(|r| (r.model.clone(), r.mesher.clone()))
@@ -137,7 +183,11 @@ pub fn cli(args: RunArgs) -> anyhow::Result<ExitCode> {
         let prepared = prepare(model);
         for runner in todo {
             let work = out.join("work").join(&model.id).join(runner.info().id);
-            let row = run_one(&ctx, model, &prepared, runner, &work);
+            let row = if runner.info().slow && !slow_ok.contains(&model.id) {
+                skipped(&ctx, model, runner, args.limit_slow.unwrap_or(0))
+            } else {
+                run_one(&ctx, model, &prepared, runner, &work)
+            };
             eprintln!("{:<24} {:<14} {}", model.id, row.mesher, summary_line(&row));
             rows.push(row);
             records::write_all(&out, &rows).context("writing results")?;
@@ -147,7 +197,17 @@ pub fn cli(args: RunArgs) -> anyhow::Result<ExitCode> {
         }
     }
     eprintln!("harness run: {} records in {}", rows.len(), out.display());
-    Ok(ExitCode::SUCCESS)
+    Ok(out)
+}
+
+/// The row of a slow peer left out by `--limit-slow`.
+fn skipped(ctx: &Context_, model: &Model, runner: &dyn Runner, limit: usize) -> Record {
+    let mut rec = blank_record(ctx, model, &runner.info());
+    rec.input_faces = model.triangles;
+    let why = format!(
+        "slow peer: --limit-slow {limit} runs it on the {limit} smallest models of each clean tier only"
+    );
+    finish(rec, Status::Skipped, Some(why))
 }
 
 fn select_runners(ids: &[String]) -> anyhow::Result<Vec<Box<dyn Runner>>> {
@@ -264,6 +324,9 @@ fn measure(
         .ok()
         .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
         .and_then(|m| m["mesh_seconds"].as_f64());
+    // Ours writes its front statistics there (`mesher mesh --stats`).
+    rec.front = records::read_front(&work.join(crate::runners::ours::STATS_NAME));
+    rec.iterations = rec.front.as_ref().map(Vec::len);
     let mesh = match mesher::io::read_volume(&out.mesh) {
         Ok(m) => m,
         Err(e) => {
@@ -274,6 +337,14 @@ fn measure(
             )
         }
     };
+    if mesh.tets.is_empty() {
+        // A peer that gives up on an open surface may still exit 0 with an empty file.
+        return finish(
+            rec,
+            Status::InvalidOutput,
+            Some("the output has no tetrahedra".into()),
+        );
+    }
     let moved_boundary = (!keeps).then(|| metrics::boundary_surface(&mesh));
     match metrics::measure_output(input, surface, mesh, keeps) {
         Ok(mut m) => {
@@ -362,6 +433,8 @@ fn blank_record(ctx: &Context_, model: &Model, info: &crate::runners::PeerInfo) 
         signal: None,
         mesh_seconds: None,
         edge_length: None,
+        configuration: Some(info.configuration.clone()),
+        front: None,
     }
 }
 

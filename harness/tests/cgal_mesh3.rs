@@ -13,50 +13,12 @@ use mesher::{Point, Surface, VolumeMesh};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-/// The runner, or `None` (after saying why) when the test must be skipped.
-fn runner() -> Option<CgalMesh3> {
-    let include = std::env::var_os("CGAL_INCLUDE_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from("/usr/include"));
-    let why = if !include
-        .join("CGAL/Polyhedral_mesh_domain_with_features_3.h")
-        .exists()
-    {
-        "CGAL headers not found (install libcgal-dev: scripts/setup.sh)"
-    } else if let Some(bin) = CgalMesh3::locate().or_else(build_binary) {
-        return Some(CgalMesh3::new(bin));
-    } else {
-        "cgal-mesh3 not built (cargo build -p reference --bin cgal-mesh3)"
-    };
-    assert!(std::env::var_os("CI").is_none(), "CI: {why}");
-    eprintln!("skipping CGAL Mesh_3 test: {why}");
-    None
-}
+mod common;
 
-/// `cargo test` builds the `reference` binaries only as unit-test executables: build
-/// the real `cgal-mesh3` once (test profile, so the CGAL archive compiled for this run
-/// is reused), serialised across the tests of this file.
-fn build_binary() -> Option<PathBuf> {
-    static LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
-    let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
-    if let Some(bin) = CgalMesh3::locate() {
-        return Some(bin);
-    }
-    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    let status = std::process::Command::new(cargo)
-        .args([
-            "build",
-            "--quiet",
-            "-p",
-            "reference",
-            "--bin",
-            "cgal-mesh3",
-            "--profile",
-            "test",
-        ])
-        .status()
-        .ok()?;
-    status.success().then(CgalMesh3::locate).flatten()
+/// The runner, or `None` (after saying why) when the test must be skipped; fails
+/// under `CI` instead of skipping.
+fn runner() -> Option<CgalMesh3> {
+    common::cgal_binary().map(CgalMesh3::new)
 }
 
 /// A fresh scratch folder for one test.

@@ -79,6 +79,92 @@ fn markdown_has_table1_numbers_statuses_and_notes() {
     assert!(!md.contains("sphere1k: the surface is the limit"));
 }
 
+/// Every plot also exists as a PNG of the plot's size that decodes and is not blank: a
+/// good share of white background, some pixels of the first mesher's colour (bars or
+/// points) and dark pixels (text and axes, so the font was found).
+#[test]
+fn pngs_decode_and_are_not_blank() {
+    let dir = tempfile::tempdir().unwrap();
+    let files = report_into(dir.path());
+    let pngs: Vec<&PathBuf> = files
+        .iter()
+        .filter(|p| p.extension().is_some_and(|x| x == "png"))
+        .collect();
+    let svgs = files
+        .iter()
+        .filter(|p| p.extension().is_some_and(|x| x == "svg"))
+        .count();
+    assert_eq!(pngs.len(), svgs, "one PNG per SVG");
+    for png in pngs {
+        assert!(png.with_extension("svg").is_file(), "{}", png.display());
+        let pixels = decode_rgb(png);
+        assert_eq!(pixels.len(), 760 * 420, "{}", png.display());
+        let white = share_of(&pixels, [255, 255, 255]);
+        let series = share_of(&pixels, [31, 119, 180]);
+        let dark = pixels.iter().filter(|p| p.iter().all(|&c| c < 80)).count();
+        assert!(
+            white > 0.3 && white < 0.999,
+            "{}: white {white}",
+            png.display()
+        );
+        assert!(series > 0.0005, "{}: series colour {series}", png.display());
+        assert!(
+            dark > 200,
+            "{}: {dark} dark pixels (no text?)",
+            png.display()
+        );
+    }
+}
+
+/// A record with a front series (ours, once `mesher mesh --stats` exists) gets a front
+/// convergence plot in its model's section.
+#[test]
+fn front_series_is_plotted() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = read(&fixture_dir().join("results.jsonl"));
+    let first = text.lines().next().unwrap();
+    let mut rec: harness::records::Record = serde_json::from_str(first).unwrap();
+    rec.mesher = "ours".into();
+    rec.front = Some(
+        [
+            (2560, 2400, 2100),
+            (3900, 3500, 2900),
+            (1200, 900, 700),
+            (80, 40, 30),
+        ]
+        .map(
+            |(front, proposed, inserted)| harness::records::FrontIteration {
+                front,
+                proposed,
+                inserted,
+            },
+        )
+        .to_vec(),
+    );
+    let jsonl = format!("{text}{}\n", serde_json::to_string(&rec).unwrap());
+    std::fs::write(dir.path().join("results.jsonl"), jsonl).unwrap();
+    let out = dir.path().join("report");
+    write_report(dir.path(), &out).unwrap();
+    let stem = format!("front-{}-ours", rec.model);
+    for ext in ["svg", "png"] {
+        assert!(out.join(format!("{stem}.{ext}")).is_file(), "{stem}.{ext}");
+    }
+    assert!(read(&out.join("index.html")).contains(&format!("{stem}.svg")));
+    let none = tempfile::tempdir().unwrap();
+    write_report(&fixture_dir(), none.path()).unwrap();
+    let fronts = std::fs::read_dir(none.path())
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .file_name()
+                .to_string_lossy()
+                .starts_with("front-")
+        })
+        .count();
+    assert_eq!(fronts, 0, "no series, no front plot");
+}
+
 #[test]
 fn latex_is_escaped() {
     let dir = tempfile::tempdir().unwrap();

@@ -2,13 +2,40 @@
 //! OFF surface (one or several shells; nested shells bound hollow regions) and writes
 //! the complex as a Medit `.mesh` file.
 //!
-//! Sizes come from one length `h`, the mean input edge length: edge_size `h`,
-//! facet_size `0.7 h`, facet_distance `0.05 h`, cell_size `h`, facet_angle 25°,
-//! cell radius-edge ratio 3, sharp features detected at 60°. The run is sequential and
-//! seeded, so the same input, `h` and seed give the same mesh.
+//! Sizes come from one length s: edge_size `s`, facet_size `0.7 s`, facet_distance
+//! `0.05 s`, cell_size `s`, facet_angle 25°, the cell radius-edge bound of
+//! [`Mesh3Options`], sharp features detected at 60°. In the default configuration s is
+//! one constant `h` (the mean input edge length); in the sized one s is a field: the size
+//! of the nearest of the given samples (CGAL's kd-tree), so that CGAL follows the same
+//! size field as the other peers. The run is sequential and seeded, so the same input,
+//! options and seed give the same mesh.
 
 use std::ffi::{c_char, CString};
 use std::path::Path;
+
+/// Mirrors `RefMesh3Options` in `cgal/mesh3.cpp`.
+#[repr(C)]
+struct RawOptions {
+    h: f64,
+    radius_edge: f64,
+    samples: *const f64,
+    n_samples: u64,
+    seed: u32,
+}
+
+/// How Mesh_3 is asked to mesh.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mesh3Options {
+    /// Constant size h (the mean input edge length); used when `samples` is empty.
+    pub edge_length: f64,
+    /// Bound on the cell radius-edge ratio (`cell_radius_edge_ratio`).
+    pub radius_edge: f64,
+    /// Size samples `[x, y, z, size]`: when not empty, every size criterion is a field
+    /// whose value at p comes from the nearest sample (the sized configuration).
+    pub samples: Vec<[f64; 4]>,
+    /// Seed of CGAL's random generators.
+    pub seed: u32,
+}
 
 /// Mirrors `RefMesh3Result` in `cgal/mesh3.cpp`.
 #[repr(C)]
@@ -24,8 +51,7 @@ extern "C" {
     fn ref_cgal_mesh3(
         in_off: *const c_char,
         out_mesh: *const c_char,
-        h: f64,
-        seed: u32,
+        opts: *const RawOptions,
         out: *mut RawResult,
         err: *mut c_char,
         err_len: usize,
@@ -69,25 +95,36 @@ fn c_path(p: &Path) -> Result<CString, Mesh3Error> {
     CString::new(s).map_err(|_| Mesh3Error::Path(s.to_owned()))
 }
 
-/// Meshes the volume bounded by the OFF surface `input` with sizes derived from
-/// `edge_length` and writes the Medit mesh to `output`.
+/// Meshes the volume bounded by the OFF surface `input` with the sizes of `options` and
+/// writes the Medit mesh to `output`.
 pub fn mesh_3(
     input: &Path,
     output: &Path,
-    edge_length: f64,
-    seed: u32,
+    options: &Mesh3Options,
 ) -> Result<Mesh3Result, Mesh3Error> {
     let (cin, cout) = (c_path(input)?, c_path(output)?);
+    let flat: Vec<f64> = options.samples.iter().flatten().copied().collect();
+    let opts = RawOptions {
+        h: options.edge_length,
+        radius_edge: options.radius_edge,
+        samples: if flat.is_empty() {
+            std::ptr::null()
+        } else {
+            flat.as_ptr()
+        },
+        n_samples: options.samples.len() as u64,
+        seed: options.seed,
+    };
     let mut raw = RawResult::default();
     let mut err = vec![0u8; 1024];
-    // SAFETY: both paths are NUL-terminated and outlive the call; the C++ side writes
-    // only into `raw` and at most `err.len()` bytes (NUL included) into `err`.
+    // SAFETY: both paths are NUL-terminated and, like `opts` and the `flat` samples it
+    // points to (4 * n_samples doubles), outlive the call; the C++ side writes only into
+    // `raw` and at most `err.len()` bytes (NUL included) into `err`.
     let rc = unsafe {
         ref_cgal_mesh3(
             cin.as_ptr(),
             cout.as_ptr(),
-            edge_length,
-            seed,
+            &opts,
             &mut raw,
             err.as_mut_ptr().cast(),
             err.len(),
@@ -118,12 +155,18 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let off = dir.join("tri.off");
         std::fs::write(&off, "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n").unwrap();
-        let err = mesh_3(&off, &dir.join("out.mesh"), 0.5, 0).unwrap_err();
+        let opts = Mesh3Options {
+            edge_length: 0.5,
+            radius_edge: 2.0,
+            samples: Vec::new(),
+            seed: 0,
+        };
+        let err = mesh_3(&off, &dir.join("out.mesh"), &opts).unwrap_err();
         assert!(
             matches!(err, Mesh3Error::BadInput(ref m) if m.contains("not closed")),
             "{err}"
         );
-        let err = mesh_3(&dir.join("missing.off"), &dir.join("out.mesh"), 0.5, 0).unwrap_err();
+        let err = mesh_3(&dir.join("missing.off"), &dir.join("out.mesh"), &opts).unwrap_err();
         assert!(matches!(err, Mesh3Error::BadInput(_)), "{err}");
         std::fs::remove_dir_all(&dir).ok();
     }

@@ -12,14 +12,19 @@ use crate::report::ReportError;
 pub const HARD_FACE_LIMIT: f64 = 0.01;
 
 /// Canonical order of the meshers in tables and legends; unknown ids follow, sorted.
-const MESHER_ORDER: [&str; 7] = [
+const MESHER_ORDER: [&str; 12] = [
     "ours",
     "tetgen",
     "tetgen-y",
+    "tetgen-y-sized",
     "cgal",
+    "cgal-sized",
     "ftetwild",
+    "ftetwild-sized",
     "gmsh-hxt",
+    "gmsh-hxt-sized",
     "gmsh-delaunay",
+    "gmsh-delaunay-sized",
 ];
 
 /// Records read from `results.jsonl`, and a warning per skipped line.
@@ -64,6 +69,7 @@ pub fn status_name(s: Status) -> &'static str {
         Status::Timeout => "timeout",
         Status::InvalidOutput => "invalid-output",
         Status::Refused => "refused",
+        Status::Skipped => "skipped",
     }
 }
 
@@ -103,6 +109,8 @@ pub struct MesherInfo {
     pub keeps_boundary: bool,
     /// Distinct version strings seen.
     pub versions: Vec<String>,
+    /// The configuration as recorded (switches, size policy), if any record has it.
+    pub configuration: Option<String>,
 }
 
 /// The records of a run grouped by (model, mesher); a later record of the same pair
@@ -207,11 +215,15 @@ fn merge_mesher(meshers: &mut Vec<MesherInfo>, r: &Record) {
                 id: r.mesher.clone(),
                 keeps_boundary: r.keeps_boundary,
                 versions: Vec::new(),
+                configuration: None,
             });
             meshers.last_mut().expect("just pushed")
         }
     };
     k.keeps_boundary &= r.keeps_boundary;
+    if k.configuration.is_none() {
+        k.configuration.clone_from(&r.configuration);
+    }
     if !r.mesher_version.is_empty() && !k.versions.contains(&r.mesher_version) {
         k.versions.push(r.mesher_version.clone());
     }

@@ -1,16 +1,19 @@
 //! Reports from recorded runs: tables in the layout of the paper's Table 1, plots, HTML.
 //!
 //! `harness report RUN_DIR [--out DIR]` reads `RUN_DIR/results.jsonl` only (it never runs
-//! a mesher) and writes `table.md`, `table.tex`, one SVG per plot and `index.html`.
+//! a mesher) and writes `table.md`, `table.tex`, one SVG and one PNG per plot and
+//! `index.html`.
 //! Lines that do not parse as a [`Record`] are skipped with a warning naming the line, so
 //! a report still comes out of a run written by an older or newer harness.
 //!
 //! Layout: [`data`] groups the records by model and mesher, [`table`] builds the tables
-//! (rendered to Markdown, LaTeX and HTML), [`plots`] draws the SVGs, [`html`] the page.
+//! (rendered to Markdown, LaTeX and HTML), [`plots`] draws the figures, [`render`] turns
+//! each into an SVG and a PNG, [`html`] writes the page.
 
 pub mod data;
 pub mod html;
 pub mod plots;
+pub mod render;
 pub mod table;
 
 use std::path::{Path, PathBuf};
@@ -48,6 +51,14 @@ pub enum ReportError {
         /// The SVG being drawn.
         path: PathBuf,
         /// The backend's error text.
+        message: String,
+    },
+    /// The font for the plots' text could not be loaded.
+    #[error("font {path}: {message}")]
+    Font {
+        /// The font file.
+        path: PathBuf,
+        /// Why it is unusable.
         message: String,
     },
 }
@@ -89,7 +100,11 @@ pub fn write_report(run_dir: &Path, out: &Path) -> Result<ReportFiles, ReportErr
     write_file(&tex, &table::latex(&run))?;
     files.push(tex);
     let plots = plots::write_all(&run, out)?;
-    files.extend(plots.iter().map(|p| out.join(&p.file)));
+    files.extend(
+        plots
+            .iter()
+            .flat_map(|p| [out.join(&p.file), out.join(&p.png)]),
+    );
     let index = out.join("index.html");
     write_file(&index, &html::page(&run, &plots, out))?;
     files.push(index);

@@ -103,6 +103,11 @@ pub fn notes(run: &RunData) -> Vec<String> {
             100.0 * m.hard_face_fraction.unwrap_or(0.0)
         ));
     }
+    for k in &run.meshers {
+        if let Some(c) = &k.configuration {
+            out.push(format!("{}: {c}.", k.id));
+        }
+    }
     for k in run.meshers.iter().filter(|k| !k.keeps_boundary) {
         out.push(format!(
             "{MOVES_BOUNDARY} {} moves the input boundary (it re-meshes the surface): its boundary \

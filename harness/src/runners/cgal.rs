@@ -1,26 +1,27 @@
 //! CGAL Mesh_3 runner: drives the `cgal-mesh3` binary of the `reference` crate
-//! (`Polyhedral_mesh_domain_with_features_3` + `make_mesh_3`, sizes from the mean input
-//! edge length h; see `reference/src/mesh3.rs`).
+//! (`Polyhedral_mesh_domain_with_features_3` + `make_mesh_3`, radius-edge bound 2, sizes
+//! from the mean input edge length h (`cgal`) or, as fields, from the size h(P) of the
+//! nearest input vertex (`cgal-sized`); see `reference/src/mesh3.rs`).
 //!
 //! The input is re-written as a clean OFF (welded, plain header) with
 //! `mesher::io::write_surface`; the output is CGAL's Medit file, read back with
 //! `mesher::io::read_volume`. CGAL re-meshes the boundary, so `keeps_boundary` is false.
 //! Its tets come out positively oriented (checked by `harness/tests/cgal_mesh3.rs`).
+//! The child is measured by [`super::process`] like every peer (wait4 rusage: wall, user
+//! + system CPU, peak RSS; time limit; stderr tail).
 
+use super::process::{check_exit, run_measured};
+use super::sizes;
 use super::{PeerInfo, ProcessStats, RunError, RunOutput, RunRequest, Runner};
 use std::ffi::OsString;
-use std::fs::File;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::process::Command;
 use std::sync::OnceLock;
-use std::time::{Duration, Instant};
 
 /// Exit code of the `cgal-mesh3` stub built without CGAL headers (clap also uses 2 for
 /// usage errors, so the stub is recognised by its message too).
 const STUB_EXIT: i32 = 2;
 const STUB_MESSAGE: &str = "built without CGAL";
-/// Characters of stderr kept in records.
-const STDERR_TAIL: usize = 2000;
 
 /// CGAL Mesh_3 through the `cgal-mesh3` binary.
 #[derive(Clone, Debug)]
@@ -29,14 +30,29 @@ pub struct CgalMesh3 {
     pub binary: PathBuf,
     /// Seed of CGAL's random generators (runs are deterministic for a given seed).
     pub seed: u32,
+    /// Bound on the cells' radius-edge ratio (`cell_radius_edge_ratio`; issue 3: 2).
+    pub radius_edge: f64,
+    /// Size criteria as fields: the size h(P) of the nearest input vertex (see
+    /// [`super::sizes`]) instead of the constant mean edge length.
+    pub sized: bool,
 }
 
 impl CgalMesh3 {
-    /// A runner for the given executable, seed 0.
+    /// A runner for the given executable: seed 0, radius-edge bound 2, constant sizes.
     pub fn new(binary: impl Into<PathBuf>) -> CgalMesh3 {
         CgalMesh3 {
             binary: binary.into(),
             seed: 0,
+            radius_edge: 2.0,
+            sized: false,
+        }
+    }
+
+    /// The same runner with sizes from the nearest input vertex (`cgal-sized`).
+    pub fn sized(self) -> CgalMesh3 {
+        CgalMesh3 {
+            sized: true,
+            ..self
         }
     }
 
@@ -54,17 +70,24 @@ impl CgalMesh3 {
             .find(|p| p.is_file())
     }
 
-    /// The command line for one run (the only place it is built).
+    /// The command line for one run (the only place it is built); `--sizes SIZES_NAME`
+    /// in the sized configuration.
     pub fn command_line(&self, input: &Path, output: &Path, edge_length: f64) -> Vec<OsString> {
-        vec![
+        let mut args: Vec<OsString> = vec![
             input.into(),
             "-o".into(),
             output.into(),
             "--edge-length".into(),
             format!("{edge_length:e}").into(),
+            "--radius-edge".into(),
+            format!("{}", self.radius_edge).into(),
             "--seed".into(),
             self.seed.to_string().into(),
-        ]
+        ];
+        if self.sized {
+            args.extend(["--sizes".into(), SIZES_NAME.into()]);
+        }
+        args
     }
 }
 
@@ -86,10 +109,22 @@ pub fn cgal_version() -> String {
 
 impl Runner for CgalMesh3 {
     fn info(&self) -> PeerInfo {
+        let sizes = if self.sized {
+            "s = h(P) of the nearest input vertex"
+        } else {
+            "s = mean input edge length"
+        };
         PeerInfo {
-            id: "cgal",
+            id: if self.sized { "cgal-sized" } else { "cgal" },
             name: "CGAL Mesh_3",
             keeps_boundary: false,
+            sized: self.sized,
+            slow: false,
+            configuration: format!(
+                "edge_size s, facet_size 0.7 s, facet_distance 0.05 s, cell_size s, \
+                 facet_angle 25, cell_radius_edge_ratio {}, features at 60 degrees; {sizes}",
+                self.radius_edge
+            ),
         }
     }
 
@@ -112,12 +147,18 @@ impl Runner for CgalMesh3 {
             mesher::io::read_surface(request.input).map_err(|e| RunError::Io(e.to_string()))?;
         mesher::io::write_surface(&input, &read.surface)
             .map_err(|e| RunError::Io(e.to_string()))?;
+        if self.sized {
+            let h = sizes::input_sizes(&read.surface);
+            sizes::write_samples(&request.workdir.join(SIZES_NAME), &read.surface, &h)?;
+        }
 
         // The child runs in the work directory: name its files relative to it, so a
         // relative work directory cannot send it looking elsewhere.
         let args = self.command_line(Path::new(INPUT_NAME), Path::new(OUTPUT_NAME), h);
         let binary = std::path::absolute(&self.binary).map_err(|e| RunError::Io(e.to_string()))?;
-        let stats = run_measured(&binary, &args, request.workdir, request.timeout)?;
+        let mut cmd = Command::new(binary);
+        cmd.args(&args);
+        let stats = run_measured(cmd, request.workdir, "cgal", request.timeout)?;
         if stats.exit_code != Some(0) {
             return Err(failure(stats));
         }
@@ -136,74 +177,23 @@ impl Runner for CgalMesh3 {
 const INPUT_NAME: &str = "cgal-input.off";
 /// CGAL's output, in the work directory.
 const OUTPUT_NAME: &str = "cgal.mesh";
+/// The size samples of the sized configuration (`x y z h` per input vertex).
+const SIZES_NAME: &str = "cgal-sizes.txt";
 
-/// Maps a non-zero exit, a signal or a timeout to the matching error.
+/// Maps a failed run to the matching error: the stub built without CGAL is
+/// [`RunError::Missing`]; anything else is [`check_exit`]'s failure (exit code, signal or
+/// time limit, with the stderr tail).
 fn failure(stats: ProcessStats) -> RunError {
     if stats.exit_code == Some(STUB_EXIT) && stats.stderr_tail.contains(STUB_MESSAGE) {
         return RunError::Missing(stats.stderr_tail.trim().to_owned());
     }
-    let message = if stats.timed_out {
-        format!("timed out after {:.1} s", stats.wall_seconds)
-    } else if let Some(sig) = stats.signal {
-        format!("killed by signal {sig}")
-    } else {
-        let last = stats.stderr_tail.lines().last().unwrap_or("").trim();
-        format!("exit code {:?}: {last}", stats.exit_code)
-    };
-    RunError::Failed { message, stats }
-}
-
-// TODO: switch to runners::process once it lands (wait4 rusage: CPU time and peak RSS).
-/// Runs `binary args` in `workdir` with stdout/stderr in files there, killing it at
-/// `timeout`. Measures wall time only: `cpu_seconds` and `peak_rss_bytes` stay 0.
-fn run_measured(
-    binary: &Path,
-    args: &[OsString],
-    workdir: &Path,
-    timeout: Duration,
-) -> Result<ProcessStats, RunError> {
-    let io = |e: std::io::Error| RunError::Io(format!("running {}: {e}", binary.display()));
-    let stdout = File::create(workdir.join("cgal.stdout")).map_err(io)?;
-    let stderr_path = workdir.join("cgal.stderr");
-    let stderr = File::create(&stderr_path).map_err(io)?;
-    let start = Instant::now();
-    let mut child = Command::new(binary)
-        .args(args)
-        .current_dir(workdir)
-        .stdin(Stdio::null())
-        .stdout(stdout)
-        .stderr(stderr)
-        .spawn()
-        .map_err(io)?;
-    let mut timed_out = false;
-    let status = loop {
-        if let Some(status) = child.try_wait().map_err(io)? {
-            break status;
-        }
-        if start.elapsed() >= timeout {
-            timed_out = true;
-            // The child may exit between try_wait and kill; wait() settles either way.
-            let _ = child.kill();
-            break child.wait().map_err(io)?;
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    };
-    let wall_seconds = start.elapsed().as_secs_f64();
-    let text = std::fs::read(&stderr_path).unwrap_or_default();
-    Ok(ProcessStats {
-        wall_seconds,
-        exit_code: status.code(),
-        signal: std::os::unix::process::ExitStatusExt::signal(&status),
-        timed_out,
-        stderr_tail: tail(&String::from_utf8_lossy(&text), STDERR_TAIL),
-        ..ProcessStats::default()
-    })
-}
-
-/// The last `max` characters of `s` (whole characters).
-fn tail(s: &str, max: usize) -> String {
-    let n = s.chars().count();
-    s.chars().skip(n.saturating_sub(max)).collect()
+    match check_exit("cgal-mesh3", stats) {
+        Err(e) => e,
+        Ok(stats) => RunError::Failed {
+            message: "cgal-mesh3: exit code 0 reported as a failure".into(),
+            stats,
+        },
+    }
 }
 
 #[cfg(test)]
@@ -231,10 +221,16 @@ mod tests {
                 "b.mesh",
                 "--edge-length",
                 "2.5e-1",
+                "--radius-edge",
+                "2",
                 "--seed",
                 "0"
             ]
         );
+        let sized = CgalMesh3::new("x").sized();
+        let args = sized.command_line(Path::new("a.off"), Path::new("b.mesh"), 0.25);
+        assert_eq!(args[args.len() - 2..], ["--sizes", SIZES_NAME]);
+        assert_eq!(sized.info().id, "cgal-sized");
     }
 
     #[test]
@@ -253,11 +249,5 @@ mod tests {
         assert!(
             matches!(failure(stats), RunError::Failed { ref message, .. } if message.contains("not closed"))
         );
-    }
-
-    #[test]
-    fn tail_keeps_the_end() {
-        assert_eq!(tail("abcdef", 3), "def");
-        assert_eq!(tail("ab", 3), "ab");
     }
 }

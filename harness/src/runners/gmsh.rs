@@ -1,5 +1,7 @@
 //! Gmsh through `scripts/gmsh_tet.py` (pip `gmsh`): `gmsh-hxt` (`Mesh.Algorithm3D` 10)
-//! and `gmsh-delaunay` (1), one thread, sizes from the boundary (Gmsh's default).
+//! and `gmsh-delaunay` (1), one thread, sizes from the boundary (Gmsh's default); the
+//! `-sized` configurations take their sizes from the background field of [`sizes`]
+//! (a PostView field on the Delaunay mesh of the input vertices carrying h(P)).
 //!
 //! The surface goes to the script as double-precision JSON with its shells and bodies
 //! (one surface loop per shell, one volume per body, nested shells as holes), so Gmsh
@@ -9,6 +11,7 @@
 
 use super::input;
 use super::process::run_python_script;
+use super::sizes;
 use super::{PeerInfo, RunError, RunOutput, RunRequest, Runner};
 
 /// Gmsh's 3D algorithm.
@@ -25,6 +28,9 @@ pub enum Algorithm {
 pub struct Gmsh {
     /// The 3D algorithm.
     pub algorithm: Algorithm,
+    /// Sizes from the background field of [`sizes`] (Delaunay mesh of the input
+    /// vertices carrying h(P)) instead of Gmsh's own extension from the boundary.
+    pub sized: bool,
 }
 
 impl Gmsh {
@@ -32,6 +38,7 @@ impl Gmsh {
     pub fn hxt() -> Gmsh {
         Gmsh {
             algorithm: Algorithm::Hxt,
+            sized: false,
         }
     }
 
@@ -39,6 +46,15 @@ impl Gmsh {
     pub fn delaunay() -> Gmsh {
         Gmsh {
             algorithm: Algorithm::Delaunay,
+            sized: false,
+        }
+    }
+
+    /// The same algorithm following the size field of [`sizes`].
+    pub fn sized(self) -> Gmsh {
+        Gmsh {
+            sized: true,
+            ..self
         }
     }
 
@@ -48,7 +64,7 @@ impl Gmsh {
             Algorithm::Hxt => "hxt",
             Algorithm::Delaunay => "delaunay",
         };
-        [
+        let mut args = [
             "--input",
             input,
             "--output",
@@ -59,33 +75,50 @@ impl Gmsh {
             alg,
         ]
         .map(String::from)
-        .to_vec()
+        .to_vec();
+        if self.sized {
+            args.push("--sized".into());
+        }
+        args
     }
 }
 
 impl Runner for Gmsh {
     fn info(&self) -> PeerInfo {
-        match self.algorithm {
-            Algorithm::Hxt => PeerInfo {
-                id: "gmsh-hxt",
-                name: "Gmsh HXT",
-                keeps_boundary: true,
-            },
-            Algorithm::Delaunay => PeerInfo {
-                id: "gmsh-delaunay",
-                name: "Gmsh Delaunay",
-                keeps_boundary: true,
-            },
+        let (id, name, number) = match (self.algorithm, self.sized) {
+            (Algorithm::Hxt, false) => ("gmsh-hxt", "Gmsh HXT", 10),
+            (Algorithm::Hxt, true) => ("gmsh-hxt-sized", "Gmsh HXT", 10),
+            (Algorithm::Delaunay, false) => ("gmsh-delaunay", "Gmsh Delaunay", 1),
+            (Algorithm::Delaunay, true) => ("gmsh-delaunay-sized", "Gmsh Delaunay", 1),
+        };
+        let sizes = if self.sized {
+            "PostView background field = h(P) on the Delaunay mesh of the input vertices, \
+             no size from boundary/points/curvature"
+        } else {
+            "sizes extended from the boundary (Gmsh default)"
+        };
+        PeerInfo {
+            id,
+            name,
+            keeps_boundary: true,
+            sized: self.sized,
+            slow: false,
+            configuration: format!("Mesh.Algorithm3D {number}, General.NumThreads 1, {sizes}"),
         }
     }
 
     fn run(&self, req: &RunRequest<'_>) -> Result<RunOutput, RunError> {
         let surface = input::load(req.input)?;
         let shells = input::shells(&surface).ok();
+        let background = match self.sized {
+            true => Some(sizes::background(&surface, &sizes::input_sizes(&surface))?),
+            false => None,
+        };
         input::write_domain_json(
             &req.workdir.join("domain.json"),
             &surface,
             shells.as_deref(),
+            background.as_ref(),
         )?;
         let args = self.args("domain.json", "out.mesh");
         let (stats, meta) = run_python_script("gmsh_tet.py", &args, req.workdir, req.timeout)?;

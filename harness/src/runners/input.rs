@@ -173,15 +173,19 @@ struct DomainJson<'a> {
     triangles: &'a [[u32; 3]],
     shells: Vec<&'a [u32]>,
     volumes: Vec<Vec<usize>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    background: Option<&'a super::sizes::Background>,
 }
 
 /// Writes the surface with its shells and bodies as JSON (coordinates round-trip exactly
 /// as doubles) for `scripts/gmsh_tet.py` and `scripts/ftetwild.py`. Without shells (a
-/// dirty surface) all faces form one shell and one body.
+/// dirty surface) all faces form one shell and one body. `background`: the size field
+/// of the sized configurations (key `background`: `vertices`, `tets`, `values`).
 pub fn write_domain_json(
     path: &Path,
     surface: &Surface,
     shells: Option<&[Shell]>,
+    background: Option<&super::sizes::Background>,
 ) -> Result<(), RunError> {
     let all: Vec<u32> = (0..surface.triangles.len() as u32).collect();
     let (shell_faces, vols) = match shells {
@@ -193,6 +197,7 @@ pub fn write_domain_json(
         triangles: &surface.triangles,
         shells: shell_faces,
         volumes: vols,
+        background,
     };
     let text = serde_json::to_string(&dom).map_err(|e| RunError::Io(e.to_string()))?;
     std::fs::write(path, text).map_err(|e| RunError::Io(format!("{}: {e}", path.display())))

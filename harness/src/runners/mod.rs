@@ -1,11 +1,11 @@
 //! Runners: one per mesher. A runner only turns typed options into the peer's invocation,
 //! runs it as a measured child process, and returns the output path; the harness then
 //! measures the output itself (never trusting a peer's statistics).
-
 //!
 //! Submodules: [`process`] (the measured child), one module per peer ([`tetgen`],
-//! [`gmsh`], [`ftetwild`], [`ours`]; CGAL Mesh_3 lives in `cgal.rs`), and [`input`]
-//! (the input surface as each peer is handed it: shells, nesting, hole points).
+//! [`gmsh`], [`ftetwild`], [`cgal`], [`ours`]), [`input`] (the input surface as each
+//! peer is handed it: shells, nesting, hole points) and [`sizes`] (the size field of the
+//! sized configurations).
 //! [`registry`] lists every runner; `harness run` is in [`crate::run`].
 
 pub mod cgal;
@@ -14,6 +14,7 @@ pub mod gmsh;
 pub mod input;
 pub mod ours;
 pub mod process;
+pub mod sizes;
 pub mod tetgen;
 
 use std::path::{Path, PathBuf};
@@ -29,6 +30,13 @@ pub struct PeerInfo {
     pub name: &'static str,
     /// True when the peer keeps the input boundary triangles exactly.
     pub keeps_boundary: bool,
+    /// True for a configuration that follows the size field of NOTES.md §3
+    /// ([`sizes`]) instead of the peer's own size policy.
+    pub sized: bool,
+    /// True for a peer that takes minutes per model (`--limit-slow` applies to it).
+    pub slow: bool,
+    /// The configuration in one line (switches, options), for reports.
+    pub configuration: String,
 }
 
 /// One meshing job.
@@ -103,19 +111,26 @@ pub trait Runner {
     fn run(&self, request: &RunRequest<'_>) -> Result<RunOutput, RunError>;
 }
 
-/// Every runner, in table order. CGAL Mesh_3 (`cgal.rs`) adds itself here.
+/// Every runner, in table order: each peer's default configuration, then its sized one.
 pub fn registry() -> Vec<Box<dyn Runner>> {
     vec![
         Box::new(ours::Ours),
         Box::new(tetgen::TetGen::default_switches()),
         Box::new(tetgen::TetGen::keep_boundary()),
+        Box::new(tetgen::TetGen::keep_boundary().sized()),
         Box::new(gmsh::Gmsh::hxt()),
+        Box::new(gmsh::Gmsh::hxt().sized()),
         Box::new(gmsh::Gmsh::delaunay()),
-        Box::new(ftetwild::FTetWild),
-        Box::new(cgal::CgalMesh3::new(
-            cgal::CgalMesh3::locate().unwrap_or_else(|| PathBuf::from("cgal-mesh3")),
-        )),
+        Box::new(gmsh::Gmsh::delaunay().sized()),
+        Box::new(ftetwild::FTetWild::default()),
+        Box::new(ftetwild::FTetWild { sized: true }),
+        Box::new(cgal::CgalMesh3::new(cgal_binary())),
+        Box::new(cgal::CgalMesh3::new(cgal_binary()).sized()),
     ]
+}
+
+fn cgal_binary() -> PathBuf {
+    cgal::CgalMesh3::locate().unwrap_or_else(|| PathBuf::from("cgal-mesh3"))
 }
 
 /// The project root (scripts/, .venv/): `HARNESS_ROOT` if set, else the workspace this
@@ -141,10 +156,11 @@ pub fn venv_python() -> PathBuf {
 /// Arguments of `harness run`.
 #[derive(clap::Args, Debug)]
 pub struct RunArgs {
-    /// Corpus tier to run (ci, nightly, large, dirty).
-    #[arg(long, default_value = "ci")]
-    pub corpus: String,
-    /// Output directory for results (default `reports/runs/<UTC stamp>`).
+    /// Corpus tier selections to run, comma-separated (ci, nightly, large, dirty, all).
+    #[arg(long, value_delimiter = ',', default_value = "ci")]
+    pub corpus: Vec<String>,
+    /// Output directory for results (default `reports/runs/<UTC stamp>`; for `harness
+    /// compare`: the report folder, default `reports/latest`, with the records in `run/`).
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Comma-separated runner ids (default: every registered runner).
@@ -165,6 +181,10 @@ pub struct RunArgs {
     /// Keep each run's work directory (output meshes, logs) under `OUT/work`.
     #[arg(long)]
     pub keep_meshes: bool,
+    /// Run the slow peers (fTetWild) only on the N smallest models (by input triangles)
+    /// of each clean tier, and on no dirty model; their other rows are `skipped`.
+    #[arg(long, value_name = "N")]
+    pub limit_slow: Option<usize>,
 }
 
 /// `harness run`.

@@ -1,5 +1,7 @@
-//! Our mesher: `mesher mesh INPUT -o OUTPUT.mesh`. Reported as not available until the
-//! `mesh` subcommand exists (`mesher mesh --help` fails).
+//! Our mesher: `mesher mesh INPUT -o out.mesh --stats stats.json`. Reported as not
+//! available until the `mesh` subcommand exists (`mesher mesh --help` fails). The
+//! statistics file holds `{"iterations": [{"front", "proposed", "inserted"}, ...]}`,
+//! which `harness run` keeps in the record for the front convergence plot.
 //!
 //! The binary is the `mesher` beside the running `harness` executable (same cargo target
 //! directory), or `MESHER_BIN` if set.
@@ -8,6 +10,9 @@ use super::process::{check_exit, run_measured};
 use super::{PeerInfo, RunError, RunOutput, RunRequest, Runner};
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
+
+/// The statistics file `mesher mesh --stats` writes in the work directory.
+pub const STATS_NAME: &str = "stats.json";
 
 /// The project's own mesher.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -50,6 +55,9 @@ impl Runner for Ours {
             id: "ours",
             name: "ours",
             keeps_boundary: true,
+            sized: true,
+            slow: false,
+            configuration: format!("mesher mesh INPUT -o out.mesh --stats {STATS_NAME}"),
         }
     }
 
@@ -59,7 +67,11 @@ impl Runner for Ours {
         }
         let mesh = req.workdir.join("out.mesh");
         let mut cmd = Command::new(mesher_binary());
-        cmd.arg("mesh").arg(req.input).arg("-o").arg(&mesh);
+        cmd.arg("mesh")
+            .arg(req.input)
+            .arg("-o")
+            .arg(&mesh)
+            .args(["--stats", STATS_NAME]);
         let stats = run_measured(cmd, req.workdir, "mesher", req.timeout)?;
         let stats = check_exit("mesher mesh", stats)?;
         if !mesh.exists() {

@@ -1,5 +1,7 @@
-//! TetGen 1.5 (Debian `tetgen`): `tetgen -pq1.414 in.smesh` (`tetgen`) and
-//! `tetgen -pYq1.414 in.smesh` (`tetgen-y`, which keeps every input triangle).
+//! TetGen 1.5 (Debian `tetgen`): `tetgen -pq1.414 in.smesh` (`tetgen`),
+//! `tetgen -pYq1.414 in.smesh` (`tetgen-y`, which keeps every input triangle) and
+//! `tetgen -pYq1.414m in.smesh` with `in.mtr` (`tetgen-y-sized`: the size h(P) of
+//! NOTES.md §3 at every input vertex; TetGen interpolates it at the points it inserts).
 //!
 //! TetGen aborts without a message on OFF files with comments or blank lines, so the
 //! runner writes the input itself as a comment-free `.smesh` (1-based nodes, facets, and
@@ -9,6 +11,7 @@
 
 use super::input::{self, Shell};
 use super::process::{check_exit, run_measured};
+use super::sizes;
 use super::{PeerInfo, RunError, RunOutput, RunRequest, Runner};
 use mesher::Surface;
 use std::fmt::Write as _;
@@ -22,6 +25,8 @@ pub struct TetGen {
     pub keep_boundary: bool,
     /// Radius-edge ratio bound of `-q`.
     pub radius_edge: f64,
+    /// Sizes from `in.mtr` (`-m`): h(P) of NOTES.md §3 at every input vertex.
+    pub sized: bool,
 }
 
 impl TetGen {
@@ -30,6 +35,7 @@ impl TetGen {
         TetGen {
             keep_boundary: false,
             radius_edge: 1.414,
+            sized: false,
         }
     }
 
@@ -38,31 +44,47 @@ impl TetGen {
         TetGen {
             keep_boundary: true,
             radius_edge: 1.414,
+            sized: false,
+        }
+    }
+
+    /// The same switches plus `-m`: sizes h(P) per input vertex from `in.mtr`.
+    pub fn sized(self) -> TetGen {
+        TetGen {
+            sized: true,
+            ..self
         }
     }
 
     /// The switches (without the input file).
     pub fn switches(&self) -> String {
         let y = if self.keep_boundary { "Y" } else { "" };
-        format!("-p{y}q{}", self.radius_edge)
+        let m = if self.sized { "m" } else { "" };
+        format!("-p{y}q{}{m}", self.radius_edge)
     }
 }
 
 impl Runner for TetGen {
     fn info(&self) -> PeerInfo {
-        if self.keep_boundary {
-            PeerInfo {
-                id: "tetgen-y",
-                name: "TetGen -pYq1.414",
-                keeps_boundary: true,
-            }
+        // -p without -Y may insert Steiner points on boundary faces.
+        let id = match (self.keep_boundary, self.sized) {
+            (false, false) => "tetgen",
+            (false, true) => "tetgen-sized",
+            (true, false) => "tetgen-y",
+            (true, true) => "tetgen-y-sized",
+        };
+        let sizes = if self.sized {
+            ", in.mtr = h(P) per input vertex"
         } else {
-            // -p without -Y may insert Steiner points on boundary faces.
-            PeerInfo {
-                id: "tetgen",
-                name: "TetGen -pq1.414",
-                keeps_boundary: false,
-            }
+            ""
+        };
+        PeerInfo {
+            id,
+            name: "TetGen",
+            keeps_boundary: self.keep_boundary,
+            sized: self.sized,
+            slow: false,
+            configuration: format!("tetgen {} in.smesh{sizes}", self.switches()),
         }
     }
 
@@ -74,6 +96,9 @@ impl Runner for TetGen {
         let shells = input::shells(&surface).ok();
         let smesh = req.workdir.join("in.smesh");
         write_smesh(&smesh, &surface, shells.as_deref())?;
+        if self.sized {
+            sizes::write_mtr(&req.workdir.join("in.mtr"), &sizes::input_sizes(&surface))?;
+        }
         let mut cmd = Command::new("tetgen");
         cmd.arg(self.switches()).arg("in.smesh");
         let stats = run_measured(cmd, req.workdir, "tetgen", req.timeout)?;
