@@ -9,7 +9,7 @@
 use super::BoundaryError;
 use crate::surface::Surface;
 use crate::tetmesh::{FaceRef, TetId, TetMesh, VertexId};
-use std::collections::{HashMap, VecDeque};
+use std::collections::VecDeque;
 
 const NONE: u32 = u32::MAX;
 
@@ -27,11 +27,7 @@ pub struct Regions {
 }
 
 /// Labels the components and the regions.
-pub(crate) fn identify(
-    mesh: &TetMesh,
-    constrained: &HashMap<[u32; 3], u32>,
-    _surface: &Surface,
-) -> Result<Regions, BoundaryError> {
+pub(crate) fn identify(mesh: &TetMesh, marks: &[[u32; 4]]) -> Result<Regions, BoundaryError> {
     let n = mesh.num_slots();
     let mut comp = vec![NONE; n];
     let mut ncomp = 0u32;
@@ -49,16 +45,14 @@ pub(crate) fn identify(
         comp[s.index()] = ncomp;
         queue.push_back(s.0);
         while let Some(t) = queue.pop_front() {
-            let v = mesh.raw_tet(t);
             let adj = mesh.raw_adj(t);
             for (i, &a) in adj.iter().enumerate() {
                 let u = FaceRef::from_raw(a).tet();
                 if mesh.is_ghost(u) {
                     continue;
                 }
-                let mut f = crate::tetmesh::FACE_VERTICES[i].map(|k| v[k]);
-                f.sort_unstable();
-                if let Some(&tri) = constrained.get(&f) {
+                let tri = marks.get(t as usize).map_or(u32::MAX, |m| m[i]);
+                if tri != u32::MAX {
                     graph.push((ncomp, u.0, tri));
                     continue;
                 }

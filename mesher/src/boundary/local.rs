@@ -203,6 +203,63 @@ impl Local {
         })
     }
 
+    /// For each triangle (mesh vertex ids), the tet faces that are that triangle: per tet
+    /// slot, the triangle index on each of its four faces (`u32::MAX` for none). One
+    /// star per vertex, visited once for all triangles whose smallest vertex it is.
+    pub fn triangle_faces(&self, tris: &[[u32; 3]]) -> Vec<[u32; 4]> {
+        let mut out = vec![[u32::MAX; 4]; self.mesh.num_slots()];
+        let mut order: Vec<u32> = (0..tris.len() as u32).collect();
+        let key = |k: u32| *tris[k as usize].iter().min().unwrap_or(&0);
+        order.sort_unstable_by_key(|&k| (key(k), k));
+        let mut star = Vec::new();
+        let mut current = u32::MAX;
+        for k in order {
+            let t = tris[k as usize];
+            let v = key(k);
+            if v != current {
+                self.star(v, &mut star);
+                current = v;
+            }
+            for &s in &star {
+                let tv = self.tet(s);
+                if tv[3] == GHOST || !t.iter().all(|x| tv.contains(x)) {
+                    continue;
+                }
+                if let Some(i) = (0..4).find(|&i| !t.contains(&tv[i])) {
+                    out[s as usize][i] = k;
+                }
+            }
+        }
+        out
+    }
+
+    /// Which edges (mesh vertex ids) are in the mesh: one star per vertex, visited once
+    /// for all edges whose smallest vertex it is.
+    pub fn edges_present(&self, edges: &[(u32, u32)]) -> Vec<bool> {
+        let mut out = vec![false; edges.len()];
+        let mut order: Vec<u32> = (0..edges.len() as u32).collect();
+        let key = |k: u32| {
+            let (a, b) = edges[k as usize];
+            a.min(b)
+        };
+        order.sort_unstable_by_key(|&k| (key(k), k));
+        let mut star = Vec::new();
+        let mut current = u32::MAX;
+        for k in order {
+            let (a, b) = edges[k as usize];
+            let v = key(k);
+            let w = a.max(b);
+            if v != current {
+                self.star(v, &mut star);
+                current = v;
+            }
+            out[k as usize] = star
+                .iter()
+                .any(|&s| !self.is_ghost(s) && self.tet(s).contains(&w));
+        }
+        out
+    }
+
     /// Replaces the tets `old` (live, finite, distinct) by tets with the vertices `new`,
     /// after checking that the new set is a positive tetrahedralisation of the same
     /// region (see the module documentation). On success [`Local::created`] lists the

@@ -401,8 +401,10 @@ fn recover_all(
     }
     let mut bad: Vec<Point> = Vec::new();
     let mut missing: Vec<(u32, u32, u32)> = Vec::new();
-    for &(a, b, t) in edges {
-        if rec.has_edge(m(a), m(b)) {
+    let mesh_edges: Vec<(u32, u32)> = edges.iter().map(|&(a, b, _)| (m(a), m(b))).collect();
+    let present = rec.l.edges_present(&mesh_edges);
+    for (&(a, b, t), &here) in edges.iter().zip(&present) {
+        if here {
             lock_edge(rec, m(a), m(b));
         } else {
             missing.push((a, b, t));
@@ -452,10 +454,18 @@ fn recover_all(
         .collect();
     let mut faces: Vec<u32> = Vec::new();
     let mut missing_faces = 0;
-    for (k, t) in surface.triangles.iter().enumerate() {
-        let f = t.map(m);
-        if rec.has_face(f[0], f[1], f[2]) {
-            rec.locks.faces.insert(sorted(f));
+    let mesh_tris: Vec<[u32; 3]> = surface.triangles.iter().map(|t| t.map(m)).collect();
+    let mut found = vec![false; mesh_tris.len()];
+    for f in rec.l.triangle_faces(&mesh_tris) {
+        for k in f {
+            if k != u32::MAX {
+                found[k as usize] = true;
+            }
+        }
+    }
+    for (k, f) in mesh_tris.iter().enumerate() {
+        if found[k] {
+            rec.locks.faces.insert(sorted(*f));
         } else {
             missing_faces += 1;
             if [(0, 1), (1, 2), (2, 0)]
@@ -501,12 +511,19 @@ fn recover_all(
     stuck.extend(pending.iter().map(|&k| Entity::Face(k)));
     if stuck.is_empty() {
         // Safety net: every input triangle must be a face now.
-        for (k, t) in surface.triangles.iter().enumerate() {
-            let f = t.map(m);
-            if !rec.has_face(f[0], f[1], f[2]) {
-                stuck.push(Entity::Face(k as u32));
+        let mut found = vec![false; mesh_tris.len()];
+        for f in rec.l.triangle_faces(&mesh_tris) {
+            for k in f {
+                if k != u32::MAX {
+                    found[k as usize] = true;
+                }
             }
         }
+        stuck.extend(
+            (0..found.len())
+                .filter(|&k| !found[k])
+                .map(|k| Entity::Face(k as u32)),
+        );
     }
     // Faces skipped because an edge is stuck are covered by that edge's entry.
     Ok((stuck, bad))
@@ -617,12 +634,18 @@ fn finish(
     steiner: Vec<VertexId>,
     report: &mut BoundaryReport,
 ) -> Result<BoundaryMesh, BoundaryError> {
+    let mesh_tris: Vec<[u32; 3]> = surface
+        .triangles
+        .iter()
+        .map(|t| t.map(|i| surface_vertex[i as usize].0))
+        .collect();
+    let marks = rec.l.triangle_faces(&mesh_tris);
     let mesh = rec.l.mesh;
     let mut constrained = HashMap::with_capacity(surface.triangles.len());
-    for (k, t) in surface.triangles.iter().enumerate() {
-        constrained.insert(sorted(t.map(|i| surface_vertex[i as usize].0)), k as u32);
+    for (k, t) in mesh_tris.iter().enumerate() {
+        constrained.insert(sorted(*t), k as u32);
     }
-    let regions = domain::identify(&mesh, &constrained, surface)?;
+    let regions = domain::identify(&mesh, &marks)?;
     report.regions = regions.count;
     report.tets = regions.tets;
     report.volume = regions.volume;
