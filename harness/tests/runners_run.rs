@@ -169,3 +169,50 @@ fn an_empty_output_is_not_ok() {
     }
     eprintln!("open surface: {:?} {:?}", rows[0].status, rows[0].message);
 }
+
+/// Issue 4's comparison: our boundary mesh and TetGen's `-pY` boundary mesh, both
+/// measured like any peer; ours keeps the input triangles and the volume.
+#[test]
+fn boundary_meshes_of_ours_and_tetgen() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("ball.off");
+    mesher::io::write_surface(&input, &mesher::surface::generate::icosphere(2)).unwrap();
+    let out = dir.path().join("out");
+    let (i, o) = (input.to_str().unwrap(), out.to_str().unwrap());
+    let r = harness(&[
+        "run",
+        "--input",
+        i,
+        "--meshers",
+        "ours-boundary,tetgen-y-boundary",
+        "--out",
+        o,
+    ]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let jsonl = std::fs::read_to_string(out.join("results.jsonl")).unwrap();
+    let rows: Vec<harness::records::Record> = jsonl
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    let ours = rows.iter().find(|r| r.mesher == "ours-boundary").unwrap();
+    assert_eq!(
+        ours.status,
+        harness::records::Status::Ok,
+        "{:?}",
+        ours.message
+    );
+    let v = ours.validity.as_ref().unwrap();
+    assert_eq!(v.inverted, 0);
+    assert_eq!(v.boundary_kept, Some(true));
+    assert!((v.volume_ratio.unwrap() - 1.0).abs() < 1e-9);
+    // The boundary mesh of a convex ball has no vertex but the surface's.
+    assert_eq!(ours.vertices, Some(ours.input_vertices));
+    let tg = rows
+        .iter()
+        .find(|r| r.mesher == "tetgen-y-boundary")
+        .unwrap();
+    if harness::runners::tetgen::debian_version("tetgen").is_some() {
+        assert_eq!(tg.status, harness::records::Status::Ok, "{:?}", tg.message);
+        assert_eq!(tg.vertices, Some(tg.input_vertices));
+    }
+}

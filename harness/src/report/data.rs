@@ -12,8 +12,10 @@ use crate::report::ReportError;
 pub const HARD_FACE_LIMIT: f64 = 0.01;
 
 /// Canonical order of the meshers in tables and legends; unknown ids follow, sorted.
-const MESHER_ORDER: [&str; 12] = [
+const MESHER_ORDER: [&str; 14] = [
     "ours",
+    "ours-boundary",
+    "tetgen-y-boundary",
     "tetgen",
     "tetgen-y",
     "tetgen-y-sized",

@@ -115,6 +115,8 @@ pub trait Runner {
 pub fn registry() -> Vec<Box<dyn Runner>> {
     vec![
         Box::new(ours::Ours),
+        Box::new(ours::OursBoundary),
+        Box::new(tetgen::TetGen::boundary_only()),
         Box::new(tetgen::TetGen::default_switches()),
         Box::new(tetgen::TetGen::keep_boundary()),
         Box::new(tetgen::TetGen::keep_boundary().sized()),

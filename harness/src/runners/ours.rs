@@ -18,6 +18,42 @@ pub const STATS_NAME: &str = "stats.json";
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Ours;
 
+/// The project's boundary mesh alone: `mesher boundary INPUT -o out.vtu` (paper §4),
+/// to compare with `tetgen -pY` (issue 4's table).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct OursBoundary;
+
+impl Runner for OursBoundary {
+    fn info(&self) -> PeerInfo {
+        PeerInfo {
+            id: "ours-boundary",
+            name: "ours (boundary mesh)",
+            keeps_boundary: true,
+            sized: false,
+            slow: false,
+            configuration: "mesher boundary INPUT -o out.vtu".into(),
+        }
+    }
+
+    fn run(&self, req: &RunRequest<'_>) -> Result<RunOutput, RunError> {
+        let mesh = req.workdir.join("out.vtu");
+        let mut cmd = Command::new(mesher_binary());
+        cmd.arg("boundary").arg(req.input).arg("-o").arg(&mesh);
+        let stats = run_measured(cmd, req.workdir, "mesher", req.timeout)?;
+        let stats = check_exit("mesher boundary", stats)?;
+        if !mesh.exists() {
+            return Err(RunError::Io(
+                "mesher boundary exited 0 but wrote no out.vtu".into(),
+            ));
+        }
+        Ok(RunOutput {
+            mesh,
+            version: format!("mesher {}", env!("CARGO_PKG_VERSION")),
+            stats,
+        })
+    }
+}
+
 /// Path of the `mesher` binary.
 pub fn mesher_binary() -> PathBuf {
     if let Some(p) = std::env::var_os("MESHER_BIN") {

@@ -23,8 +23,9 @@ use std::process::Command;
 pub struct TetGen {
     /// Keep the input boundary exactly (`-Y`).
     pub keep_boundary: bool,
-    /// Radius-edge ratio bound of `-q`.
-    pub radius_edge: f64,
+    /// Radius-edge ratio bound of `-q`; `None` for no quality refinement (the
+    /// boundary mesh only, to compare with `mesher boundary`).
+    pub radius_edge: Option<f64>,
     /// Sizes from `in.mtr` (`-m`): h(P) of NOTES.md §3 at every input vertex.
     pub sized: bool,
 }
@@ -34,7 +35,7 @@ impl TetGen {
     pub fn default_switches() -> TetGen {
         TetGen {
             keep_boundary: false,
-            radius_edge: 1.414,
+            radius_edge: Some(1.414),
             sized: false,
         }
     }
@@ -43,7 +44,16 @@ impl TetGen {
     pub fn keep_boundary() -> TetGen {
         TetGen {
             keep_boundary: true,
-            radius_edge: 1.414,
+            radius_edge: Some(1.414),
+            sized: false,
+        }
+    }
+
+    /// `-pY`: the boundary mesh alone (input triangles kept, no refinement).
+    pub fn boundary_only() -> TetGen {
+        TetGen {
+            keep_boundary: true,
+            radius_edge: None,
             sized: false,
         }
     }
@@ -60,18 +70,20 @@ impl TetGen {
     pub fn switches(&self) -> String {
         let y = if self.keep_boundary { "Y" } else { "" };
         let m = if self.sized { "m" } else { "" };
-        format!("-p{y}q{}{m}", self.radius_edge)
+        let q = self.radius_edge.map_or(String::new(), |r| format!("q{r}"));
+        format!("-p{y}{q}{m}")
     }
 }
 
 impl Runner for TetGen {
     fn info(&self) -> PeerInfo {
         // -p without -Y may insert Steiner points on boundary faces.
-        let id = match (self.keep_boundary, self.sized) {
-            (false, false) => "tetgen",
-            (false, true) => "tetgen-sized",
-            (true, false) => "tetgen-y",
-            (true, true) => "tetgen-y-sized",
+        let id = match (self.keep_boundary, self.sized, self.radius_edge.is_some()) {
+            (_, _, false) => "tetgen-y-boundary",
+            (false, false, true) => "tetgen",
+            (false, true, true) => "tetgen-sized",
+            (true, false, true) => "tetgen-y",
+            (true, true, true) => "tetgen-y-sized",
         };
         let sizes = if self.sized {
             ", in.mtr = h(P) per input vertex"
