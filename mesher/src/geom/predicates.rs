@@ -13,6 +13,14 @@
 //! [`insphere`] takes a positively oriented tetrahedron and answers `Inside` when `e` is
 //! strictly inside its circumsphere.
 //!
+//! Exact stages, cheapest first: a semi-static floating-point filter (and the static
+//! [`StaticFilter`] of the kernel); then, for the calls the filter cannot decide (nearly
+//! coplanar or cospherical points), the determinant in fixed-point integers (module
+//! `fixed`: exact whenever the coordinate differences share a bounded exponent range,
+//! which is the case for neighbouring points); only the rest (wildly spread exponents,
+//! non-finite input) reach `robust`'s adaptive expansions, whose zero-initialised
+//! buffers and expansion sums cost microseconds per call.
+//!
 //! Degeneracies: [`insphere_perturbed`] breaks ties (`e` exactly on the sphere) by the
 //! symbolic perturbation of Devillers and Teillaud ("Perturbations and vertex removal in
 //! a 3D Delaunay triangulation", SODA 2003): every point is lifted by an infinitesimal
@@ -22,6 +30,9 @@
 
 use glam::DVec3;
 use robust::{Coord, Coord3D};
+
+#[path = "fixed.rs"]
+mod fixed;
 
 /// Sign of an orientation determinant.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -128,9 +139,23 @@ fn orient3d_det(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> (f64, DVec3, DVec3, D
     (ba.x * m1 + ba.y * m2 + ba.z * m3, ba, ca, da)
 }
 
-/// Exact orientation without the fast filter (used by tests to check the filter).
+/// Exact orientation without the floating-point filter: the fixed-point stage, then
+/// `robust` for inputs out of its range.
 #[inline(never)]
 pub fn orient3d_exact(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> Orientation {
+    match fixed::orient3d_sign(a, b, c, d) {
+        Some(s) => Orientation::from_f64(s as f64),
+        None => {
+            let [a, b, c, d] = rescaled([a, b, c, d]);
+            orient3d_robust(a, b, c, d)
+        }
+    }
+}
+
+/// Exact orientation by `robust` alone: the reference the faster stages are tested and
+/// benchmarked against.
+#[inline(never)]
+pub fn orient3d_robust(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> Orientation {
     // robust's orient3d is positive when d is below the plane of (a, b, c) seen
     // counter-clockwise, which is our negative signed volume.
     Orientation::from_f64(-robust::orient3d(c3(a), c3(b), c3(c), c3(d)))
@@ -279,10 +304,72 @@ impl Default for StaticFilter {
     }
 }
 
-/// Exact insphere without the fast filter.
+/// Exact insphere without the floating-point filter: the fixed-point stage, then
+/// `robust` for inputs out of its range.
 #[inline(never)]
 pub fn insphere_exact(a: DVec3, b: DVec3, c: DVec3, d: DVec3, e: DVec3) -> Sphere {
-    let v = robust::insphere(c3(a), c3(b), c3(c), c3(d), c3(e));
+    match fixed::insphere_sign(a, b, c, d, e) {
+        Some(s) => sphere_from_shewchuk(s as f64),
+        None => {
+            let [a, b, c, d, e] = rescaled([a, b, c, d, e]);
+            insphere_robust(a, b, c, d, e)
+        }
+    }
+}
+
+/// `2^k` for `-1022 <= k <= 1023`.
+#[inline]
+fn pow2(k: i32) -> f64 {
+    debug_assert!((-1022..=1023).contains(&k));
+    f64::from_bits(((k + 1023) as u64) << 52)
+}
+
+/// The points multiplied by the power of two that brings their largest coordinate into
+/// `[0.5, 1)`, when that is exact; else the points unchanged. Every determinant keeps its
+/// sign, and `robust`, whose expansions are exact only while no product overflows or
+/// underflows, then stays exact for points of comparable magnitude far from 1 (degree-5
+/// products of coordinates near 1e±70 already leave the double range).
+fn rescaled<const N: usize>(p: [DVec3; N]) -> [DVec3; N] {
+    let m = p.iter().fold(0.0f64, |m, q| m.max(q.abs().max_element()));
+    if m == 0.0 || !m.is_finite() || !p.iter().all(|q| q.is_finite()) {
+        return p;
+    }
+    // m < 2^top with top - 1 <= log2(m); subnormals have biased exponent 0.
+    let biased = ((m.to_bits() >> 52) & 0x7ff) as i32;
+    let top = if biased == 0 {
+        -1022 - m.to_bits().leading_zeros() as i32 + 12
+    } else {
+        biased - 1022
+    };
+    let scale = |x: f64, k: i32| {
+        let mut x = x;
+        let mut k = k;
+        while k != 0 {
+            let step = k.clamp(-1000, 1000);
+            x *= pow2(step);
+            k -= step;
+        }
+        x
+    };
+    let q = p.map(|v| DVec3::new(scale(v.x, -top), scale(v.y, -top), scale(v.z, -top)));
+    let back = q.map(|v| DVec3::new(scale(v.x, top), scale(v.y, top), scale(v.z, top)));
+    if back == p {
+        q
+    } else {
+        p
+    }
+}
+
+/// Exact insphere by `robust` alone: the reference the faster stages are tested and
+/// benchmarked against.
+#[inline(never)]
+pub fn insphere_robust(a: DVec3, b: DVec3, c: DVec3, d: DVec3, e: DVec3) -> Sphere {
+    sphere_from_shewchuk(robust::insphere(c3(a), c3(b), c3(c), c3(d), c3(e)))
+}
+
+/// Shewchuk's insphere sign (positive: outside for our positive tets) as a [`Sphere`].
+#[inline]
+fn sphere_from_shewchuk(v: f64) -> Sphere {
     if v < 0.0 {
         Sphere::Inside
     } else if v > 0.0 {
@@ -445,6 +532,11 @@ mod tests {
             prop_assert_eq!(orient3d(a, b, c, z), orient3d_exact(a, b, c, z));
             prop_assert_eq!(insphere(a, b, c, z, e), insphere_exact(a, b, c, z, e));
             prop_assert_eq!(insphere(a, b, c, z, d), insphere_exact(a, b, c, z, d));
+            // The exact stages agree with `robust` alone (no product leaves the double
+            // range at these scales).
+            prop_assert_eq!(orient3d_exact(a, b, c, d), orient3d_robust(a, b, c, d));
+            prop_assert_eq!(insphere_exact(a, b, c, z, e), insphere_robust(a, b, c, z, e));
+            prop_assert_eq!(insphere_exact(a, b, c, z, d), insphere_robust(a, b, c, z, d));
             // The static filter over the points' box agrees too.
             let pts = [a, b, c, d, e, z];
             let lo = pts.iter().fold(DVec3::INFINITY, |m, p| m.min(*p));
