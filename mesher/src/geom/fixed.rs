@@ -26,52 +26,55 @@ const BITS: u32 = 62;
 /// Coordinates are subtracted after scaling, so they get one bit less.
 const COORD_BITS: u32 = BITS - 1;
 
-/// `x = m * 2^e` with `m` odd (or `(0, i32::MAX)` for zero). `x` must be finite.
-#[inline]
-fn decompose(x: f64) -> (i64, i32) {
-    if x == 0.0 {
-        return (0, i32::MAX);
-    }
-    let bits = x.to_bits();
-    let biased = ((bits >> 52) & 0x7ff) as i32;
-    let frac = bits & ((1u64 << 52) - 1);
-    let (mant, e) = if biased == 0 {
-        (frac, -1074)
-    } else {
-        (frac | (1u64 << 52), biased - 1075)
-    };
-    let tz = mant.trailing_zeros();
-    let m = (mant >> tz) as i64;
-    (if x < 0.0 { -m } else { m }, e + tz as i32)
+/// `2^k` for `-1022 <= k <= 1023`.
+#[inline(always)]
+fn pow2(k: i32) -> f64 {
+    debug_assert!((-1022..=1023).contains(&k));
+    f64::from_bits(((k + 1023) as u64) << 52)
 }
 
 /// The values scaled by a common power of two to integers of fewer than `bits` bits
 /// (magnitude `< 2^bits`), or `None` when some value is not finite or the bits of the
 /// values span more than `bits` positions.
+///
+/// The scale puts the largest magnitude in `[2^(bits-1), 2^bits)`; the scaled values are
+/// then integers exactly when no bit of any value lies below the scale's unit. Scaling
+/// up is exact; scaling down can only round values that become subnormal (below 1, so
+/// not integers) or zero, hence the check that non-zero values stay non-zero.
 #[inline]
 fn to_fixed<const N: usize>(v: [f64; N], bits: u32) -> Option<[i64; N]> {
-    let mut m = [0i64; N];
-    let mut e = [i32::MAX; N];
-    let mut emin = i32::MAX;
+    let m = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    if m == f64::INFINITY || v.iter().any(|x| x.is_nan()) {
+        return None;
+    }
+    if m == 0.0 {
+        return Some([0; N]);
+    }
+    // m < 2^top, with top - 1 <= log2(m).
+    let b = m.to_bits();
+    let biased = (b >> 52) as i32;
+    let top = if biased == 0 {
+        -1010 - b.leading_zeros() as i32
+    } else {
+        biased - 1022
+    };
+    let k = bits as i32 - top;
+    let scale = |x: f64| {
+        if k > 1023 {
+            x * pow2(1023) * pow2(k - 1023)
+        } else {
+            x * pow2(k)
+        }
+    };
+    let mut out = [0i64; N];
     for i in 0..N {
-        if !v[i].is_finite() {
+        let y = scale(v[i]);
+        if y != y.trunc() || (y == 0.0 && v[i] != 0.0) {
             return None;
         }
-        (m[i], e[i]) = decompose(v[i]);
-        emin = emin.min(e[i]);
+        out[i] = y as i64;
     }
-    for i in 0..N {
-        if m[i] == 0 {
-            continue;
-        }
-        let shift = (e[i] - emin) as u32;
-        let len = 64 - m[i].unsigned_abs().leading_zeros();
-        if shift >= bits || shift + len > bits {
-            return None;
-        }
-        m[i] <<= shift;
-    }
-    Some(m)
+    Some(out)
 }
 
 /// `a - b` when it is exact in floating point (Knuth's two-difference with a zero tail).
@@ -323,6 +326,96 @@ pub(super) fn insphere_sign(a: DVec3, b: DVec3, c: DVec3, d: DVec3, e: DVec3) ->
 mod tests {
     use super::*;
 
+    /// `x = m * 2^e` with `m` odd (or `(0, i32::MAX)` for zero). `x` must be finite.
+    #[inline]
+    fn decompose(x: f64) -> (i64, i32) {
+        if x == 0.0 {
+            return (0, i32::MAX);
+        }
+        let bits = x.to_bits();
+        let biased = ((bits >> 52) & 0x7ff) as i32;
+        let frac = bits & ((1u64 << 52) - 1);
+        let (mant, e) = if biased == 0 {
+            (frac, -1074)
+        } else {
+            (frac | (1u64 << 52), biased - 1075)
+        };
+        let tz = mant.trailing_zeros();
+        let m = (mant >> tz) as i64;
+        (if x < 0.0 { -m } else { m }, e + tz as i32)
+    }
+
+    /// The values scaled by a common power of two to integers of fewer than `bits` bits
+    /// (magnitude `< 2^bits`), or `None` when some value is not finite or the bits of the
+    /// values span more than `bits` positions.
+    fn to_fixed_reference<const N: usize>(v: [f64; N], bits: u32) -> Option<[i64; N]> {
+        let mut m = [0i64; N];
+        let mut e = [i32::MAX; N];
+        let mut emin = i32::MAX;
+        for i in 0..N {
+            if !v[i].is_finite() {
+                return None;
+            }
+            (m[i], e[i]) = decompose(v[i]);
+            emin = emin.min(e[i]);
+        }
+        for i in 0..N {
+            if m[i] == 0 {
+                continue;
+            }
+            let shift = (e[i] - emin) as u32;
+            let len = 64 - m[i].unsigned_abs().leading_zeros();
+            if shift >= bits || shift + len > bits {
+                return None;
+            }
+            m[i] <<= shift;
+        }
+        Some(m)
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(5000))]
+        /// The floating-point scaling agrees with the bit-level reference.
+        #[test]
+        fn to_fixed_matches_reference(
+            m in proptest::array::uniform6(proptest::prelude::any::<i64>()),
+            e in proptest::array::uniform6(-80i32..80),
+            base in proptest::prop_oneof![
+                proptest::strategy::Just(0i32), -1100i32..1000, proptest::strategy::Just(-1074)
+            ],
+            zero in proptest::array::uniform6(0u8..5),
+        ) {
+            let v: [f64; 6] = std::array::from_fn(|i| {
+                if zero[i] == 0 {
+                    0.0
+                } else {
+                    // A 1..53-bit mantissa at exponent base + e.
+                    let bits = (m[i] as u64 >> 11) >> (m[i] as u64 % 53);
+                    let x = ldexp(bits as f64, base + e[i]);
+                    if m[i] < 0 { -x } else { x }
+                }
+            });
+            for bits in [BITS, COORD_BITS] {
+                let (a, r) = (to_fixed(v, bits), to_fixed_reference(v, bits));
+                proptest::prop_assert_eq!(a.is_some(), r.is_some());
+                if let (Some(a), Some(r)) = (a, r) {
+                    // The same values up to the common power of two, the largest in
+                    // [2^(bits-1), 2^bits).
+                    let j = (0..6).max_by_key(|&i| r[i].unsigned_abs()).unwrap();
+                    for i in 0..6 {
+                        proptest::prop_assert_eq!(
+                            a[i] as i128 * r[j] as i128,
+                            a[j] as i128 * r[i] as i128
+                        );
+                    }
+                    if r[j] != 0 {
+                        proptest::prop_assert!(a[j].unsigned_abs() >> (bits - 1) == 1);
+                    }
+                }
+            }
+        }
+    }
+
     #[test]
     fn decompose_round_trips() {
         for x in [
@@ -348,9 +441,19 @@ mod tests {
 
     #[test]
     fn to_fixed_rejects_spread_and_non_finite() {
-        assert_eq!(to_fixed([1.0, 0.5, 0.0], BITS), Some([2, 1, 0]));
+        assert_eq!(to_fixed([1.0, 0.5, 0.0], BITS), Some([1 << 61, 1 << 60, 0]));
         assert_eq!(to_fixed([1.0, 2f64.powi(-61)], BITS), Some([1 << 61, 1]));
         assert_eq!(to_fixed([1.0, 2f64.powi(-62)], BITS), None);
+        assert_eq!(to_fixed([-0.75, 5e-324], BITS), None);
+        assert_eq!(
+            to_fixed([5e-324, -1e-323], BITS),
+            Some([1 << 60, -(1 << 61)])
+        );
+        assert_eq!(
+            to_fixed([f64::MAX, 0.0], BITS),
+            Some([((1 << 53) - 1) << 9, 0])
+        );
+        assert_eq!(to_fixed([f64::INFINITY, 0.0], BITS), None);
         assert_eq!(to_fixed([1.0, f64::NAN], BITS), None);
         assert_eq!(to_fixed([0.0, -0.0], BITS), Some([0, 0]));
     }
