@@ -195,7 +195,39 @@ pub fn insphere(a: DVec3, b: DVec3, c: DVec3, d: DVec3, e: DVec3) -> Sphere {
     if -det > bound {
         return Sphere::Inside;
     }
+    // A dynamic filter: Shewchuk's first error bound, `ISP_DYN` times the permanent (the
+    // determinant with every term replaced by its absolute value), valid for the same
+    // expression evaluated in the same order, without underflow (guaranteed above).
+    let perm = insphere_permanent([ae, be, ce, de]);
+    if det > ISP_DYN * perm {
+        return Sphere::Outside;
+    }
+    if -det > ISP_DYN * perm {
+        return Sphere::Inside;
+    }
     insphere_exact(a, b, c, d, e)
+}
+
+/// Shewchuk's `isperrboundA = (16 + 224 eps) eps`, with `eps = 2^-53`.
+const ISP_DYN: f64 = (16.0 + 224.0 * f64::EPSILON / 2.0) * f64::EPSILON / 2.0;
+
+/// The permanent of the insphere determinant of the differences (Shewchuk 1997, §4.3).
+#[inline(always)]
+fn insphere_permanent([ae, be, ce, de]: [DVec3; 4]) -> f64 {
+    let m = |p: DVec3, q: DVec3| (p.x * q.y).abs() + (q.x * p.y).abs();
+    let (ab, bc, cd, da, ac, bd) = (
+        m(ae, be),
+        m(be, ce),
+        m(ce, de),
+        m(de, ae),
+        m(ae, ce),
+        m(be, de),
+    );
+    let (az, bz, cz, dz) = (ae.z.abs(), be.z.abs(), ce.z.abs(), de.z.abs());
+    (cd * bz + bd * cz + bc * dz) * ae.length_squared()
+        + (da * cz + ac * dz + cd * az) * be.length_squared()
+        + (ab * dz + bd * az + da * bz) * ce.length_squared()
+        + (bc * az + ac * bz + ab * cz) * de.length_squared()
 }
 
 /// The insphere determinant in floating point (Shewchuk's expression: positive when `e`
