@@ -195,10 +195,17 @@ pub fn insphere(a: DVec3, b: DVec3, c: DVec3, d: DVec3, e: DVec3) -> Sphere {
     if -det > bound {
         return Sphere::Inside;
     }
-    // A dynamic filter: Shewchuk's first error bound, `ISP_DYN` times the permanent (the
-    // determinant with every term replaced by its absolute value), valid for the same
-    // expression evaluated in the same order, without underflow (guaranteed above).
-    let perm = insphere_permanent([ae, be, ce, de]);
+    insphere_dynamic(det, [ae, be, ce, de], [a, b, c, d, e])
+}
+
+/// The calls the semi-static filter leaves (out of line, so the inlined fast path stays
+/// small): a dynamic filter, Shewchuk's first error bound, `ISP_DYN` times the permanent
+/// (the determinant with every term replaced by its absolute value), valid for the same
+/// expression evaluated in the same order without underflow (guaranteed by the caller's
+/// range check); then the exact stages.
+#[inline(never)]
+fn insphere_dynamic(det: f64, diffs: [DVec3; 4], [a, b, c, d, e]: [DVec3; 5]) -> Sphere {
+    let perm = insphere_permanent(diffs);
     if det > ISP_DYN * perm {
         return Sphere::Outside;
     }
