@@ -5,8 +5,8 @@
 //! A finite double is `m * 2^e` with an odd integer `m` of at most 53 bits. When the
 //! values a determinant is built from (the coordinate differences, or failing that the
 //! coordinates) all become integers of at most [`BITS`] bits once multiplied by the same
-//! power of two `2^-e_min`, the determinant of those integers is the exact determinant
-//! times `2^(-k e_min)` (k = 3 or 5, a positive factor), so its sign is the exact sign.
+//! power of two `2^s`, the determinant of those integers is the exact determinant times
+//! `2^(k s)` (k = 3 or 5, a positive factor), so its sign is the exact sign.
 //! Integers of 62 bits keep every intermediate product within a few 64-bit limbs:
 //! 2x2 minors fit in `i128`, 3x3 minors in 192 bits and the insphere determinant in 320.
 //!
