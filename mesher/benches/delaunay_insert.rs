@@ -1,5 +1,8 @@
-//! Criterion bench of the Delaunay kernel: uniform random points (10^4, 10^5, 10^6) and
-//! the vertices of a real surface when one is available.
+//! Criterion bench of the Delaunay kernel: uniform random points (10^4, 10^5, 10^6), the
+//! 10k vertices of the level-5 icosphere (nearly cospherical: every insphere among
+//! neighbours needs the exact stages) and the vertices of a real surface when one is
+//! available; plus the exact insphere stages alone on nearly cospherical points (the
+//! fixed-point stage against `robust`).
 //!
 //! `cargo bench -p mesher --bench delaunay_insert`. The surface case uses CGAL's
 //! armadillo from the corpus cache (`scripts/fetch-corpus.sh`) or `MESHER_BENCH_SURFACE`;
@@ -33,6 +36,11 @@ fn bench_uniform(c: &mut Criterion) {
             b.iter(|| triangulate(pts, &DelaunayOptions::default()).map(|t| t.mesh.num_slots()))
         });
     }
+    let sphere = mesher::surface::generate::icosphere(5).vertices;
+    g.throughput(Throughput::Elements(sphere.len() as u64));
+    g.bench_with_input(BenchmarkId::new("icosphere", 5), &sphere, |b, pts| {
+        b.iter(|| triangulate(pts, &DelaunayOptions::default()).map(|t| t.mesh.num_slots()))
+    });
     let default_surface = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../corpus/cache/cgal/meshes/armadillo.off"
@@ -60,5 +68,43 @@ fn bench_uniform(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench_uniform);
+/// Nearly cospherical 5-tuples: neighbouring icosphere vertices, which the floating-point
+/// filter cannot decide.
+fn bench_insphere_exact(c: &mut Criterion) {
+    use mesher::geom::predicates::{insphere_exact, insphere_robust};
+    let s = mesher::surface::generate::icosphere(5);
+    let tuples: Vec<[Point; 5]> = s
+        .triangles
+        .windows(2)
+        .step_by(7)
+        .take(1000)
+        .filter_map(|w| {
+            let mut v: Vec<u32> = w.iter().flatten().copied().collect();
+            v.sort_unstable();
+            v.dedup();
+            (v.len() >= 5).then(|| std::array::from_fn(|i| s.vertices[v[i] as usize]))
+        })
+        .collect();
+    let mut g = c.benchmark_group("insphere_cospherical");
+    g.throughput(Throughput::Elements(tuples.len() as u64));
+    g.bench_function("fixed", |b| {
+        b.iter(|| {
+            tuples
+                .iter()
+                .map(|p| insphere_exact(p[0], p[1], p[2], p[3], p[4]) as u32)
+                .sum::<u32>()
+        })
+    });
+    g.bench_function("robust", |b| {
+        b.iter(|| {
+            tuples
+                .iter()
+                .map(|p| insphere_robust(p[0], p[1], p[2], p[3], p[4]) as u32)
+                .sum::<u32>()
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench_uniform, bench_insphere_exact);
 criterion_main!(benches);

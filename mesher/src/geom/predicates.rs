@@ -13,6 +13,14 @@
 //! [`insphere`] takes a positively oriented tetrahedron and answers `Inside` when `e` is
 //! strictly inside its circumsphere.
 //!
+//! Exact stages, cheapest first: a semi-static floating-point filter (and the static
+//! [`StaticFilter`] of the kernel); then, for the calls the filter cannot decide (nearly
+//! coplanar or cospherical points), the determinant in fixed-point integers (module
+//! `fixed`: exact whenever the coordinate differences share a bounded exponent range,
+//! which is the case for neighbouring points); only the rest (wildly spread exponents,
+//! non-finite input) reach `robust`'s adaptive expansions, whose zero-initialised
+//! buffers and expansion sums cost microseconds per call.
+//!
 //! Degeneracies: [`insphere_perturbed`] breaks ties (`e` exactly on the sphere) by the
 //! symbolic perturbation of Devillers and Teillaud ("Perturbations and vertex removal in
 //! a 3D Delaunay triangulation", SODA 2003): every point is lifted by an infinitesimal
@@ -22,6 +30,9 @@
 
 use glam::DVec3;
 use robust::{Coord, Coord3D};
+
+#[path = "fixed.rs"]
+mod fixed;
 
 /// Sign of an orientation determinant.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -128,9 +139,23 @@ fn orient3d_det(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> (f64, DVec3, DVec3, D
     (ba.x * m1 + ba.y * m2 + ba.z * m3, ba, ca, da)
 }
 
-/// Exact orientation without the fast filter (used by tests to check the filter).
+/// Exact orientation without the floating-point filter: the fixed-point stage, then
+/// `robust` for inputs out of its range.
 #[inline(never)]
 pub fn orient3d_exact(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> Orientation {
+    match fixed::orient3d_sign(a, b, c, d) {
+        Some(s) => Orientation::from_f64(s as f64),
+        None => {
+            let [a, b, c, d] = rescaled([a, b, c, d]);
+            orient3d_robust(a, b, c, d)
+        }
+    }
+}
+
+/// Exact orientation by `robust` alone: the reference the faster stages are tested and
+/// benchmarked against.
+#[inline(never)]
+pub fn orient3d_robust(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> Orientation {
     // robust's orient3d is positive when d is below the plane of (a, b, c) seen
     // counter-clockwise, which is our negative signed volume.
     Orientation::from_f64(-robust::orient3d(c3(a), c3(b), c3(c), c3(d)))
@@ -170,7 +195,46 @@ pub fn insphere(a: DVec3, b: DVec3, c: DVec3, d: DVec3, e: DVec3) -> Sphere {
     if -det > bound {
         return Sphere::Inside;
     }
+    insphere_dynamic(det, [ae, be, ce, de], [a, b, c, d, e])
+}
+
+/// The calls the semi-static filter leaves (out of line, so the inlined fast path stays
+/// small): a dynamic filter, Shewchuk's first error bound, `ISP_DYN` times the permanent
+/// (the determinant with every term replaced by its absolute value), valid for the same
+/// expression evaluated in the same order without underflow (guaranteed by the caller's
+/// range check); then the exact stages.
+#[inline(never)]
+fn insphere_dynamic(det: f64, diffs: [DVec3; 4], [a, b, c, d, e]: [DVec3; 5]) -> Sphere {
+    let perm = insphere_permanent(diffs);
+    if det > ISP_DYN * perm {
+        return Sphere::Outside;
+    }
+    if -det > ISP_DYN * perm {
+        return Sphere::Inside;
+    }
     insphere_exact(a, b, c, d, e)
+}
+
+/// Shewchuk's `isperrboundA = (16 + 224 eps) eps`, with `eps = 2^-53`.
+const ISP_DYN: f64 = (16.0 + 224.0 * f64::EPSILON / 2.0) * f64::EPSILON / 2.0;
+
+/// The permanent of the insphere determinant of the differences (Shewchuk 1997, §4.3).
+#[inline(always)]
+fn insphere_permanent([ae, be, ce, de]: [DVec3; 4]) -> f64 {
+    let m = |p: DVec3, q: DVec3| (p.x * q.y).abs() + (q.x * p.y).abs();
+    let (ab, bc, cd, da, ac, bd) = (
+        m(ae, be),
+        m(be, ce),
+        m(ce, de),
+        m(de, ae),
+        m(ae, ce),
+        m(be, de),
+    );
+    let (az, bz, cz, dz) = (ae.z.abs(), be.z.abs(), ce.z.abs(), de.z.abs());
+    (cd * bz + bd * cz + bc * dz) * ae.length_squared()
+        + (da * cz + ac * dz + cd * az) * be.length_squared()
+        + (ab * dz + bd * az + da * bz) * ce.length_squared()
+        + (bc * az + ac * bz + ab * cz) * de.length_squared()
 }
 
 /// The insphere determinant in floating point (Shewchuk's expression: positive when `e`
@@ -279,10 +343,72 @@ impl Default for StaticFilter {
     }
 }
 
-/// Exact insphere without the fast filter.
+/// Exact insphere without the floating-point filter: the fixed-point stage, then
+/// `robust` for inputs out of its range.
 #[inline(never)]
 pub fn insphere_exact(a: DVec3, b: DVec3, c: DVec3, d: DVec3, e: DVec3) -> Sphere {
-    let v = robust::insphere(c3(a), c3(b), c3(c), c3(d), c3(e));
+    match fixed::insphere_sign(a, b, c, d, e) {
+        Some(s) => sphere_from_shewchuk(s as f64),
+        None => {
+            let [a, b, c, d, e] = rescaled([a, b, c, d, e]);
+            insphere_robust(a, b, c, d, e)
+        }
+    }
+}
+
+/// `2^k` for `-1022 <= k <= 1023`.
+#[inline]
+fn pow2(k: i32) -> f64 {
+    debug_assert!((-1022..=1023).contains(&k));
+    f64::from_bits(((k + 1023) as u64) << 52)
+}
+
+/// The points multiplied by the power of two that brings their largest coordinate into
+/// `[0.5, 1)`, when that is exact; else the points unchanged. Every determinant keeps its
+/// sign, and `robust`, whose expansions are exact only while no product overflows or
+/// underflows, then stays exact for points of comparable magnitude far from 1 (degree-5
+/// products of coordinates near 1e±70 already leave the double range).
+fn rescaled<const N: usize>(p: [DVec3; N]) -> [DVec3; N] {
+    let m = p.iter().fold(0.0f64, |m, q| m.max(q.abs().max_element()));
+    if m == 0.0 || !m.is_finite() || !p.iter().all(|q| q.is_finite()) {
+        return p;
+    }
+    // m < 2^top with top - 1 <= log2(m); subnormals have biased exponent 0.
+    let biased = ((m.to_bits() >> 52) & 0x7ff) as i32;
+    let top = if biased == 0 {
+        -1022 - m.to_bits().leading_zeros() as i32 + 12
+    } else {
+        biased - 1022
+    };
+    let scale = |x: f64, k: i32| {
+        let mut x = x;
+        let mut k = k;
+        while k != 0 {
+            let step = k.clamp(-1000, 1000);
+            x *= pow2(step);
+            k -= step;
+        }
+        x
+    };
+    let q = p.map(|v| DVec3::new(scale(v.x, -top), scale(v.y, -top), scale(v.z, -top)));
+    let back = q.map(|v| DVec3::new(scale(v.x, top), scale(v.y, top), scale(v.z, top)));
+    if back == p {
+        q
+    } else {
+        p
+    }
+}
+
+/// Exact insphere by `robust` alone: the reference the faster stages are tested and
+/// benchmarked against.
+#[inline(never)]
+pub fn insphere_robust(a: DVec3, b: DVec3, c: DVec3, d: DVec3, e: DVec3) -> Sphere {
+    sphere_from_shewchuk(robust::insphere(c3(a), c3(b), c3(c), c3(d), c3(e)))
+}
+
+/// Shewchuk's insphere sign (positive: outside for our positive tets) as a [`Sphere`].
+#[inline]
+fn sphere_from_shewchuk(v: f64) -> Sphere {
     if v < 0.0 {
         Sphere::Inside
     } else if v > 0.0 {
@@ -445,6 +571,11 @@ mod tests {
             prop_assert_eq!(orient3d(a, b, c, z), orient3d_exact(a, b, c, z));
             prop_assert_eq!(insphere(a, b, c, z, e), insphere_exact(a, b, c, z, e));
             prop_assert_eq!(insphere(a, b, c, z, d), insphere_exact(a, b, c, z, d));
+            // The exact stages agree with `robust` alone (no product leaves the double
+            // range at these scales).
+            prop_assert_eq!(orient3d_exact(a, b, c, d), orient3d_robust(a, b, c, d));
+            prop_assert_eq!(insphere_exact(a, b, c, z, e), insphere_robust(a, b, c, z, e));
+            prop_assert_eq!(insphere_exact(a, b, c, z, d), insphere_robust(a, b, c, z, d));
             // The static filter over the points' box agrees too.
             let pts = [a, b, c, d, e, z];
             let lo = pts.iter().fold(DVec3::INFINITY, |m, p| m.min(*p));
