@@ -18,7 +18,7 @@ scripts/setup.sh --peers
 scripts/fetch-corpus.sh
 # cgal-mesh3 must sit beside the harness binary (target/release): build both.
 cargo build --release -q -p harness -p reference --bins
-# The mesher is developed elsewhere: a build failure only leaves "ours" missing.
+# A mesher build failure must not stop the peers' report: "ours" is then missing.
 cargo build --release -q -p mesher --bin mesher || echo "compare: mesher does not build; ours will be missing" >&2
 limit=()
 if [ -n "${CI:-}" ]; then
