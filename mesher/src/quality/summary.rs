@@ -7,6 +7,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::geom::predicates::{orient3d, Orientation};
 use crate::geom::Point;
 use crate::quality::histogram::{nonfinite, Histogram};
 use crate::quality::length::{edge_quality, normalized_length};
@@ -46,7 +47,8 @@ pub struct QualitySummary {
     /// Smallest normalised radius ratio `3 rho / R`.
     #[serde(with = "nonfinite")]
     pub min_radius_ratio: f64,
-    /// Tets with negative signed volume (inexact sign, see `signed_volume`).
+    /// Inverted tets: negative exact orientation when added by points
+    /// ([`SummaryBuilder::add_points`]), else negative (inexact) signed volume.
     pub inverted: u64,
     /// Tets with zero volume or non-finite coordinates (`Q_K = inf`).
     pub degenerate: u64,
@@ -92,10 +94,14 @@ impl SummaryBuilder {
         }
     }
 
-    /// Adds the tet with corners `p`.
+    /// Adds the tet with corners `p`; its inversion is decided by the exact orientation
+    /// (a nearly flat but positive tet is not inverted, whatever its rounded volume).
     #[inline]
     pub fn add_points(&mut self, p: &[Point; 4]) {
-        self.add(&TetMeasures::new(p));
+        let m = TetMeasures::new(p);
+        self.add(&m);
+        let exact = orient3d(p[0], p[1], p[2], p[3]) == Orientation::Negative;
+        self.inverted = self.inverted - u64::from(m.is_inverted()) + u64::from(exact);
     }
 
     /// Adds one tet's measures.
