@@ -370,4 +370,35 @@ mod tests {
         let tri = surface_edge_length_histogram(&m.vertices, &[[1, 2, 3]], &sizes);
         assert_eq!(tri.counts[6], 3);
     }
+
+    /// A positive sliver whose rounded volume is negative is not inverted; the mirror
+    /// image of the same sliver is.
+    #[test]
+    fn inversion_is_decided_exactly() {
+        let (a, b, c) = (
+            Point::new(0.1, 0.2, 0.3),
+            Point::new(12.3, 0.7, 5.1),
+            Point::new(3.3, 9.1, 2.2),
+        );
+        let mut seed = 0x2545_F491_4F6C_DD1Du64;
+        let mut rand = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let sliver = (0..1_000_000).find_map(|_| {
+            let d = a + (b - a) * rand() + (c - a) * rand();
+            let p = [a, b, c, d];
+            let positive = orient3d(a, b, c, d) == Orientation::Positive;
+            (positive && TetMeasures::new(&p).is_inverted()).then_some(p)
+        });
+        let p = sliver.expect("no sliver with a wrongly rounded sign found");
+        let mut s = SummaryBuilder::new(None);
+        s.add_points(&p);
+        assert_eq!(s.finish().inverted, 0);
+        let mut s = SummaryBuilder::new(None);
+        s.add_points(&[p[1], p[0], p[2], p[3]]);
+        assert_eq!(s.finish().inverted, 1);
+    }
 }
