@@ -1,6 +1,8 @@
 //! Corpus tests: the manifest, generated models (clean, closed, deterministic, checksums
 //! as declared), midpoint refinement, error messages, and the ci tier on the real cache.
 
+mod common;
+
 use harness::corpus::{
     self, generate, load_manifest, materialize, select, CorpusError, Model, Source, Tier,
 };
@@ -178,26 +180,10 @@ fn missing_files_and_bad_checksums_are_errors_naming_the_model() {
     );
 }
 
-/// True when the fetched part of the cache is there; skips (or fails under CI) if not.
-fn cache_present(root: &Path) -> bool {
-    let cache = root.join("corpus/cache");
-    let present = ["cgal/meshes", "netgen", "gmsh"]
-        .iter()
-        .all(|d| cache.join(d).is_dir());
-    if !present {
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "CI is set but corpus/cache is missing: run scripts/fetch-corpus.sh"
-        );
-        eprintln!("skipped: corpus/cache missing (run scripts/fetch-corpus.sh)");
-    }
-    present
-}
-
 #[test]
 fn ci_tier_resolves_and_checks_clean() {
     let root = repo_root();
-    if !cache_present(&root) {
+    if !common::corpus_cache_present() {
         return;
     }
     let models = manifest();

@@ -6,6 +6,8 @@
 //! A peer that is not installed skips its test with a message, except when the env var
 //! `CI` is set: then a missing peer fails.
 
+mod common;
+
 use harness::metrics::{measure_input, measure_output, OutputMeasures};
 use harness::runners::gmsh::Gmsh;
 use harness::runners::tetgen::TetGen;
@@ -25,19 +27,6 @@ fn venv_has(module: &str) -> bool {
         .output()
         .map(|o| o.status.success())
         .unwrap_or(false)
-}
-
-/// True when the test should run; false (after a message) to skip; panics under CI.
-fn peer_present(name: &str, present: bool) -> bool {
-    if present {
-        return true;
-    }
-    assert!(
-        std::env::var_os("CI").is_none(),
-        "{name} is missing and CI is set"
-    );
-    eprintln!("skipping: {name} is not installed (scripts/setup.sh --peers)");
-    false
 }
 
 /// Runs `runner` on icosphere(2) and measures the output.
@@ -83,7 +72,7 @@ fn assert_valid(id: &str, m: &OutputMeasures, keeps: bool) {
 
 #[test]
 fn tetgen_meshes_a_sphere() {
-    if !peer_present("tetgen", tetgen_installed()) {
+    if !common::peer_present("tetgen", tetgen_installed()) {
         return;
     }
     for t in [TetGen::default_switches(), TetGen::keep_boundary()] {
@@ -95,7 +84,7 @@ fn tetgen_meshes_a_sphere() {
 
 #[test]
 fn gmsh_meshes_a_sphere() {
-    if !peer_present("gmsh (venv)", venv_has("gmsh")) {
+    if !common::peer_present("gmsh (venv)", venv_has("gmsh")) {
         return;
     }
     for g in [Gmsh::hxt(), Gmsh::delaunay()] {
@@ -107,8 +96,8 @@ fn gmsh_meshes_a_sphere() {
 
 #[test]
 fn quality_agrees_with_numpy_on_a_tetgen_mesh() {
-    if !peer_present("tetgen", tetgen_installed())
-        || !peer_present("numpy (venv)", venv_has("numpy"))
+    if !common::peer_present("tetgen", tetgen_installed())
+        || !common::peer_present("numpy (venv)", venv_has("numpy"))
     {
         return;
     }
@@ -166,10 +155,10 @@ fn nested_shells_leave_the_hole_empty() {
     let surface = hollow_ball();
     let input = measure_input(&surface);
     let mut runners: Vec<Box<dyn Runner>> = Vec::new();
-    if peer_present("tetgen", tetgen_installed()) {
+    if common::peer_present("tetgen", tetgen_installed()) {
         runners.push(Box::new(TetGen::keep_boundary()));
     }
-    if peer_present("gmsh (venv)", venv_has("gmsh")) {
+    if common::peer_present("gmsh (venv)", venv_has("gmsh")) {
         runners.push(Box::new(Gmsh::hxt()));
     }
     for r in runners {

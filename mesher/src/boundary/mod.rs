@@ -455,14 +455,7 @@ fn recover_all(
     let mut faces: Vec<u32> = Vec::new();
     let mut missing_faces = 0;
     let mesh_tris: Vec<[u32; 3]> = surface.triangles.iter().map(|t| t.map(m)).collect();
-    let mut found = vec![false; mesh_tris.len()];
-    for f in rec.l.triangle_faces(&mesh_tris) {
-        for k in f {
-            if k != u32::MAX {
-                found[k as usize] = true;
-            }
-        }
-    }
+    let found = faces_found(&rec.l, &mesh_tris);
     for (k, f) in mesh_tris.iter().enumerate() {
         if found[k] {
             rec.locks.faces.insert(sorted(*f));
@@ -511,14 +504,7 @@ fn recover_all(
     stuck.extend(pending.iter().map(|&k| Entity::Face(k)));
     if stuck.is_empty() {
         // Safety net: every input triangle must be a face now.
-        let mut found = vec![false; mesh_tris.len()];
-        for f in rec.l.triangle_faces(&mesh_tris) {
-            for k in f {
-                if k != u32::MAX {
-                    found[k as usize] = true;
-                }
-            }
-        }
+        let found = faces_found(&rec.l, &mesh_tris);
         stuck.extend(
             (0..found.len())
                 .filter(|&k| !found[k])
@@ -527,6 +513,17 @@ fn recover_all(
     }
     // Faces skipped because an edge is stuck are covered by that edge's entry.
     Ok((stuck, bad))
+}
+
+/// Which triangles (mesh vertex ids) are faces of the mesh.
+fn faces_found(l: &Local, tris: &[[u32; 3]]) -> Vec<bool> {
+    let mut found = vec![false; tris.len()];
+    for k in l.triangle_faces(tris).into_iter().flatten() {
+        if k != u32::MAX {
+            found[k as usize] = true;
+        }
+    }
+    found
 }
 
 fn lock_edge(rec: &mut Recovery, a: u32, b: u32) {
