@@ -266,7 +266,7 @@ fn boundary(path: &Path, output: Option<&Path>, stats: bool, validate: bool) -> 
             .context("the boundary mesh failed validation")?;
     }
     if let Some(out) = output {
-        mesher::io::write_volume(out, &bm.to_volume_mesh(&read.surface))
+        mesher::io::write_volume(out, &bm.to_volume_mesh())
             .with_context(|| format!("writing {}", out.display()))?;
     }
     if stats {

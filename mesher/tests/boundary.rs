@@ -6,6 +6,7 @@
 //! message, except under CI where they fail.
 
 use mesher::boundary::{boundary_mesh, BoundaryError, BoundaryOptions, BoundaryReport};
+use mesher::geom::predicates::{orient3d, Orientation};
 use mesher::geom::Point;
 use mesher::io::read_surface;
 use mesher::surface::generate::{cube, icosphere, torus};
@@ -20,8 +21,9 @@ fn recover(name: &str, s: &Surface) -> BoundaryReport {
     bm.mesh
         .validate(false)
         .unwrap_or_else(|e| panic!("{name}: {e}"));
-    let vm = bm.to_volume_mesh(s);
-    // Boundary faces of the domain (faces of exactly one domain tet) = input triangles.
+    let vm = bm.to_volume_mesh();
+    // Boundary faces of the domain (faces of exactly one domain tet) = the faces listed
+    // as the boundary.
     let mut count: HashMap<[u32; 3], u32> = HashMap::new();
     for t in &vm.tets {
         for f in [
@@ -30,9 +32,7 @@ fn recover(name: &str, s: &Surface) -> BoundaryReport {
             [t[0], t[1], t[3]],
             [t[0], t[1], t[2]],
         ] {
-            let mut f = f;
-            f.sort_unstable();
-            *count.entry(f).or_default() += 1;
+            *count.entry(sorted(f)).or_default() += 1;
         }
     }
     let mut boundary: Vec<[u32; 3]> = count
@@ -40,23 +40,36 @@ fn recover(name: &str, s: &Surface) -> BoundaryReport {
         .filter(|e| e.1 == 1)
         .map(|e| e.0)
         .collect();
-    let mut input: Vec<[u32; 3]> = s
-        .triangles
-        .iter()
-        .map(|t| {
-            let mut t = *t;
-            t.sort_unstable();
-            t
-        })
-        .collect();
+    let mut listed: Vec<[u32; 3]> = vm.triangles.iter().map(|t| sorted(*t)).collect();
     boundary.sort_unstable();
-    input.sort_unstable();
+    listed.sort_unstable();
     assert_eq!(
-        boundary, input,
-        "{name}: the domain's boundary is not the input surface"
+        boundary, listed,
+        "{name}: the domain's boundary is not its faces"
     );
     // The input vertices keep their numbers and coordinates.
     assert_eq!(&vm.vertices[..s.vertices.len()], &s.vertices[..], "{name}");
+    if r.steiner_on_edges == 0 {
+        // No split left: the faces are exactly the input triangles.
+        let mut input: Vec<[u32; 3]> = s.triangles.iter().map(|t| sorted(*t)).collect();
+        input.sort_unstable();
+        assert_eq!(
+            listed, input,
+            "{name}: the boundary is not the input surface"
+        );
+    } else {
+        // Each piece lies in its input triangle's plane, exactly unless a split point
+        // could only be placed within rounding of its edge.
+        for (t, &k) in vm.triangles.iter().zip(&bm.face_parent) {
+            let [a, b, c] = s.triangles[k as usize].map(|i| s.vertices[i as usize]);
+            for &v in t {
+                let p = vm.vertices[v as usize];
+                let flat = orient3d(a, b, c, p) == Orientation::Zero;
+                let near = (b - a).cross(c - a).normalize().dot(p - a).abs() < 1e-12;
+                assert!(flat || (r.steiner_on_edges_inexact > 0 && near), "{name}");
+            }
+        }
+    }
     let rel = (r.volume - r.enclosed_volume).abs() / r.enclosed_volume.abs();
     assert!(
         rel < 1e-9,
@@ -64,8 +77,12 @@ fn recover(name: &str, s: &Surface) -> BoundaryReport {
         r.volume,
         r.enclosed_volume
     );
-    assert_eq!(r.steiner_on_edges + r.steiner_on_faces, 0, "{name}");
     r
+}
+
+fn sorted(mut f: [u32; 3]) -> [u32; 3] {
+    f.sort_unstable();
+    f
 }
 
 /// A triangular prism whose top is turned by `twist` degrees, its side quads split by
@@ -144,7 +161,7 @@ fn same_input_same_mesh() {
     let s = torus(40, 8, 2.0, 0.3);
     let a = boundary_mesh(&s, &BoundaryOptions::default()).unwrap().0;
     let b = boundary_mesh(&s, &BoundaryOptions::default()).unwrap().0;
-    assert_eq!(a.to_volume_mesh(&s), b.to_volume_mesh(&s));
+    assert_eq!(a.to_volume_mesh(), b.to_volume_mesh());
 }
 
 #[test]
@@ -193,38 +210,43 @@ fn corpus(rel: &str) -> Option<Surface> {
     )
 }
 
-/// Models recovered today, with their number of material regions.
+/// Models recovered today, with their number of material regions; the ones that once
+/// failed (long stuck segments, before segment splitting and suppression) must keep no
+/// Steiner point on the boundary.
 #[test]
 fn corpus_models_are_recovered_exactly() {
-    for (rel, regions) in [
-        ("cgal/meshes/cube.off", 1),
-        ("cgal/meshes/3torus.off", 1),
-        ("cgal/meshes/rotor.off", 1),
-        ("cgal/meshes/pinion.off", 1),
-        ("cgal/meshes/couplingdown.off", 1),
-        ("cgal/meshes/elephant.off", 1),
-        ("cgal/meshes/fandisk.off", 1),
-        ("cgal/meshes/knot2.off", 2),
-        ("cgal/meshes/armadillo.off", 1),
-        ("netgen/part1.stl", 1),
-        ("netgen/hinge.stl", 1),
+    for (rel, regions, once_failed) in [
+        ("cgal/meshes/cube.off", 1, false),
+        ("cgal/meshes/3torus.off", 1, false),
+        ("cgal/meshes/rotor.off", 1, false),
+        ("cgal/meshes/pinion.off", 1, false),
+        ("cgal/meshes/couplingdown.off", 1, false),
+        ("cgal/meshes/elephant.off", 1, false),
+        ("cgal/meshes/fandisk.off", 1, false),
+        ("cgal/meshes/knot2.off", 2, false),
+        ("cgal/meshes/armadillo.off", 1, false),
+        ("netgen/part1.stl", 1, false),
+        ("netgen/hinge.stl", 1, false),
+        ("cgal/meshes/anchor.off", 1, true),
+        ("gmsh/t13_data.stl", 1, true),
+        ("generated/fandisk-in-box.off", 1, true),
     ] {
         let Some(s) = corpus(rel) else { return };
         let r = recover(rel, &s);
         assert_eq!(r.regions, regions, "{rel}");
+        if once_failed {
+            assert_eq!(r.steiner_on_edges, 0, "{rel}");
+        }
     }
 }
 
-/// Models not recovered yet (long stuck segments that need a segment split and its
-/// suppression): a typed error naming an entity with its coordinates, in bounded time,
-/// never a panic or a wrong mesh.
+/// Models not always recovered (cheese ends with split points on its edges, turbine's
+/// long thin coplanar triangles stay stuck): a valid mesh whose boundary is the input
+/// (up to the reported split points), or a typed error naming an entity with its
+/// coordinates, in bounded time, never a panic or a wrong mesh.
 #[test]
 fn hard_models_end_in_a_typed_result() {
-    for rel in [
-        "cgal/meshes/anchor.off",
-        "cgal/meshes/cheese.off",
-        "gmsh/t13_data.stl",
-    ] {
+    for rel in ["cgal/meshes/cheese.off", "cgal/meshes/turbine.off"] {
         let Some(s) = corpus(rel) else { return };
         match boundary_mesh(&s, &BoundaryOptions::default()) {
             Ok(_) => {

@@ -8,21 +8,26 @@
 //! Borouchaki and Saltel, "'Ultimate' robustness in meshing an arbitrary polyhedron",
 //! IJNME 2003): when an entity stays stuck after the flips, a point is placed off the
 //! surface on each side of it, at a fraction of its length, and the boundary mesh is
-//! rebuilt with those points among the Delaunay vertices; the surface itself is never
-//! split, so the boundary of T(S,F) is the input surface exactly. Points that end up
-//! outside the domain disappear with the outside; the others are reported.
+//! rebuilt with those points among the Delaunay vertices. Points that end up outside
+//! the domain disappear with the outside; the others are reported. Only when interior
+//! points fail is a stuck edge split at a point exactly on it (`split`), which keeps the
+//! boundary of T(S,F) the input surface as a point set; such points are reported and
+//! taken out again where the mesh allows.
 //!
 //! Entry point: [`boundary_mesh`] -> ([`BoundaryMesh`], [`BoundaryReport`]) or a typed
 //! [`BoundaryError`] that names the entity and where it is.
 //!
 //! Submodules: `local` (vertex-to-tet map, rings, the checked `replace`), `flips` (2-3,
 //! edge removal by ring re-triangulation), `recover` (segment and face recovery),
-//! `domain` (flood fill, regions, volumes).
+//! `domain` (flood fill, regions, volumes), `split` (boundary Steiner points),
+//! `suppress` (taking Steiner points out again).
 
 mod domain;
 mod flips;
 mod local;
 mod recover;
+mod split;
+mod suppress;
 #[cfg(test)]
 mod tests;
 
@@ -37,6 +42,7 @@ use crate::volume::VolumeMesh;
 use local::Local;
 use recover::{Recovery, Stuck};
 use serde::Serialize;
+use split::Refined;
 use std::collections::HashMap;
 use std::time::Instant;
 use thiserror::Error;
@@ -44,6 +50,11 @@ use thiserror::Error;
 /// Passes over the missing edges (or faces) per round: recovering one can unblock
 /// another, so a pass that made progress is followed by another.
 const MAX_PASSES: usize = 4;
+
+/// Split rounds in a row that may leave as many stuck entities as the best round
+/// before the recovery gives up: splitting creates new edges, and on some surfaces
+/// (long thin coplanar triangles) they stay stuck as often as the old ones.
+pub const STALLED_SPLIT_ROUNDS: usize = 3;
 
 /// Parameters of the boundary mesh; the defaults follow NOTES.md §1.
 #[derive(Clone, Debug, PartialEq)]
@@ -54,12 +65,16 @@ pub struct BoundaryOptions {
     pub seed: u64,
     /// Flip operations allowed per entity and attempt.
     pub flip_budget: usize,
-    /// Rebuilds with more interior Steiner points before giving up.
+    /// Rebuilds with more interior Steiner points before splitting edges.
     pub steiner_rounds: usize,
     /// Offset of a Steiner point from its stuck entity, relative to the entity's size.
     pub steiner_offset: f64,
     /// Check the surface (closed, manifold, no self-intersection) first.
     pub check_input: bool,
+    /// Rebuilds that split the still-stuck edges (boundary Steiner points), after the
+    /// interior rounds; they stop early after [`STALLED_SPLIT_ROUNDS`] rounds without
+    /// fewer stuck entities than the best so far.
+    pub split_rounds: usize,
 }
 
 impl Default for BoundaryOptions {
@@ -68,9 +83,10 @@ impl Default for BoundaryOptions {
             box_margin: 0.1,
             seed: 0x5EED,
             flip_budget: 64,
-            steiner_rounds: 4,
+            steiner_rounds: 2,
             steiner_offset: 0.3,
             check_input: true,
+            split_rounds: 8,
         }
     }
 }
@@ -88,6 +104,13 @@ pub struct BoundaryMesh {
     pub box_corners: Vec<VertexId>,
     /// Interior Steiner points (mesh vertices), inside the domain or not.
     pub steiner: Vec<VertexId>,
+    /// Steiner points on input edges (mesh vertices), after the suppression.
+    pub boundary_steiner: Vec<VertexId>,
+    /// The boundary faces, oriented as the input: the input triangles, or their pieces
+    /// where an edge was split.
+    pub faces: Vec<[VertexId; 3]>,
+    /// Input triangle of each face.
+    pub face_parent: Vec<u32>,
     /// Constrained faces (sorted mesh vertex ids) -> input triangle index.
     pub constrained: HashMap<[u32; 3], u32>,
 }
@@ -113,10 +136,16 @@ pub struct BoundaryReport {
     pub steiner_outside: usize,
     /// Steiner points taken out again after the recovery.
     pub steiner_removed: usize,
-    /// Steiner points on input edges (the surface is never split: always 0).
+    /// Steiner points on input edges (splitting them), after the suppression.
     pub steiner_on_edges: usize,
-    /// Steiner points on input faces (always 0, as above).
+    /// Steiner points on input faces (faces are never split: always 0).
     pub steiner_on_faces: usize,
+    /// Steiner points on input edges taken out again after the recovery.
+    pub steiner_on_edges_removed: usize,
+    /// Of the Steiner points left on input edges, those only within rounding of their
+    /// edge (no representable point was exactly on it): there the boundary of T(S,F)
+    /// deviates from the input by rounding.
+    pub steiner_on_edges_inexact: usize,
     /// Material regions (bodies, or the space between nested shells).
     pub regions: usize,
     /// Tets in the domain.
@@ -214,18 +243,26 @@ pub fn boundary_mesh(
         }
     }
     report.time_check = t0.elapsed().as_secs_f64();
-    let edges = input_edges(surface);
+    let mut work = Refined::new(surface);
+    let mut edges = input_edges(&work.surface);
     let mut steiner_points: Vec<Point> = Vec::new();
     let mut best: (usize, Vec<Point>, Vec<Entity>) = (usize::MAX, Vec::new(), Vec::new());
-    for round in 0..=options.steiner_rounds {
+    let mut stuck = Vec::new();
+    let rounds = options.steiner_rounds + options.split_rounds;
+    // Fewest stuck entities seen in a split round, and rounds since it last dropped.
+    let mut split_best = (usize::MAX, 0);
+    let mut rounds_done = 0;
+    for round in 0..=rounds {
+        rounds_done = round;
         let t1 = Instant::now();
-        let (mesh, surface_vertex, steiner) = delaunay(surface, &steiner_points, options)?;
+        let (mesh, surface_vertex, steiner) = delaunay(&work.surface, &steiner_points, options)?;
         report.time_delaunay += t1.elapsed().as_secs_f64();
         let t2 = Instant::now();
         let mut rec = Recovery::new(Local::new(mesh));
-        let (stuck, bad) = recover_all(
+        let bad;
+        (stuck, bad) = recover_all(
             &mut rec,
-            surface,
+            &work.surface,
             &edges,
             &surface_vertex,
             options,
@@ -239,39 +276,53 @@ pub fn boundary_mesh(
         if stuck.is_empty() {
             report.steiner_rounds = round;
             let t3 = Instant::now();
+            suppress_splits(&mut rec, &mut work, &surface_vertex, &mut report);
             let mut steiner = steiner;
             steiner.extend(rec.steiner.iter().map(|&v| VertexId(v)));
-            // Try to take every Steiner point out again (paper §4.2's "remove or
-            // relocate"): the ones that are not needed go.
-            // Removing one can free another: repeat while a pass removes some.
-            let before = steiner.len();
-            for _ in 0..4 {
-                let n = steiner.len();
-                steiner.retain(|v| !rec.remove_vertex(v.0));
-                if steiner.len() == n {
-                    break;
-                }
-            }
-            report.steiner_removed = before - steiner.len();
-            let bm = finish(rec, surface, surface_vertex, steiner, &mut report)?;
+            suppress(&mut rec, &mut steiner, &mut report);
+            let bm = finish(rec, &work, surface_vertex, steiner, &mut report)?;
             report.time_domain = t3.elapsed().as_secs_f64();
             return Ok((bm, report));
         }
-        // Keep the Steiner set that left the fewest entities stuck; a worse round is
-        // reverted and retried with points closer to the entities.
-        if stuck.len() < best.0 {
-            best = (stuck.len(), steiner_points.clone(), stuck);
-        } else {
-            steiner_points = best.1.clone();
-        }
         if round < options.steiner_rounds {
-            let scale = options.steiner_offset / (1 << round.min(30)) as f64;
-            for s in &best.2 {
-                steiner_points.extend(steiner_for(surface, *s, scale, round));
+            // Keep the Steiner set that left the fewest entities stuck; a worse round
+            // is reverted and retried with points closer to the entities.
+            if stuck.len() < best.0 {
+                best = (stuck.len(), steiner_points.clone(), stuck.clone());
+            } else {
+                steiner_points = best.1.clone();
+                stuck = best.2.clone();
             }
         }
+        if round + 1 < options.steiner_rounds {
+            let scale = options.steiner_offset / (1 << round.min(30)) as f64;
+            for s in &stuck {
+                steiner_points.extend(steiner_for(&work.surface, *s, scale, round));
+            }
+        } else if round < rounds {
+            if stuck.len() < split_best.0 {
+                split_best = (stuck.len(), 0);
+            } else {
+                split_best.1 += 1;
+                if split_best.1 >= STALLED_SPLIT_ROUNDS {
+                    break;
+                }
+            }
+            // Interior points did not do it: split the stuck edges (faces get more
+            // interior points, closer).
+            for s in &stuck {
+                match *s {
+                    Entity::Edge(a, b, _) => {
+                        work.split_edge(a, b);
+                    }
+                    Entity::Face(_) => {
+                        steiner_points.extend(steiner_for(&work.surface, *s, 0.05, round))
+                    }
+                }
+            }
+            edges = input_edges(&work.surface);
+        }
     }
-    let stuck = best.2;
     Err(BoundaryError::Unrecovered {
         edges: stuck
             .iter()
@@ -281,11 +332,48 @@ pub fn boundary_mesh(
             .iter()
             .filter(|s| matches!(s, Entity::Face(..)))
             .count(),
-        rounds: options.steiner_rounds,
+        rounds: rounds_done,
         first: stuck
             .first()
-            .map_or_else(String::new, |e| describe(surface, *e)),
+            .map_or_else(String::new, |e| describe(&work.surface, *e)),
     })
+}
+
+/// Tries to take every split point out again, newest first (which undoes the splits of
+/// the surface in reverse).
+fn suppress_splits(
+    rec: &mut Recovery,
+    work: &mut Refined,
+    sv: &[VertexId],
+    report: &mut BoundaryReport,
+) {
+    for k in (0..work.splits.len()).rev() {
+        let split = work.splits[k];
+        let Some((cd, tris)) = work.star(split) else {
+            continue;
+        };
+        let m = |i: u32| sv[i as usize].0;
+        if rec.suppress_split(split.map(m), cd.map(m)) {
+            work.merge(split, tris);
+            work.removed[k] = true;
+            report.steiner_on_edges_removed += 1;
+        }
+    }
+}
+
+/// Tries to take every interior Steiner point out again (paper §4.2's "remove or
+/// relocate"): the ones that are not needed go. Removing one can free another, so
+/// passes repeat while one removes some.
+fn suppress(rec: &mut Recovery, steiner: &mut Vec<VertexId>, report: &mut BoundaryReport) {
+    let before = steiner.len();
+    for _ in 0..4 {
+        let n = steiner.len();
+        steiner.retain(|v| !rec.remove_vertex(v.0));
+        if steiner.len() == n {
+            break;
+        }
+    }
+    report.steiner_removed = before - steiner.len();
 }
 
 /// A stuck input entity (input vertex / triangle ids).
@@ -626,27 +714,28 @@ fn min_height(surface: &Surface, k: u32) -> f64 {
 /// Domain identification and the final mesh.
 fn finish(
     rec: Recovery,
-    surface: &Surface,
+    work: &Refined,
     surface_vertex: Vec<VertexId>,
     steiner: Vec<VertexId>,
     report: &mut BoundaryReport,
 ) -> Result<BoundaryMesh, BoundaryError> {
-    let mesh_tris: Vec<[u32; 3]> = surface
+    let mesh_tris: Vec<[u32; 3]> = work
+        .surface
         .triangles
         .iter()
         .map(|t| t.map(|i| surface_vertex[i as usize].0))
         .collect();
     let marks = rec.l.triangle_faces(&mesh_tris);
     let mesh = rec.l.mesh;
-    let mut constrained = HashMap::with_capacity(surface.triangles.len());
-    for (k, t) in mesh_tris.iter().enumerate() {
-        constrained.insert(sorted(*t), k as u32);
+    let mut constrained = HashMap::with_capacity(mesh_tris.len());
+    for (t, &k) in mesh_tris.iter().zip(&work.parent) {
+        constrained.insert(sorted(*t), k);
     }
     let regions = domain::identify(&mesh, &marks)?;
     report.regions = regions.count;
     report.tets = regions.tets;
     report.volume = regions.volume;
-    report.enclosed_volume = domain::enclosed_volume(surface);
+    report.enclosed_volume = domain::enclosed_volume(&work.surface);
     let mut inside = vec![false; mesh.num_vertices()];
     for t in mesh.finite_tets() {
         if regions.region[t.index()] != 0 {
@@ -657,12 +746,26 @@ fn finish(
     }
     report.steiner_interior = steiner.iter().filter(|v| inside[v.index()]).count();
     report.steiner_outside = steiner.len() - report.steiner_interior;
+    let live: Vec<usize> = (0..work.splits.len())
+        .filter(|&k| !work.removed[k])
+        .collect();
+    let boundary_steiner: Vec<VertexId> = live
+        .iter()
+        .map(|&k| surface_vertex[work.splits[k][0] as usize])
+        .collect();
+    report.steiner_on_edges = live.len();
+    report.steiner_on_edges_inexact = live.iter().filter(|&&k| !work.exact[k]).count();
+    let mut surface_vertex = surface_vertex;
+    surface_vertex.truncate(work.inputs);
     let bm = BoundaryMesh {
         mesh,
         region: regions.region,
         surface_vertex,
         box_corners: (0..8).map(VertexId).collect(),
         steiner,
+        boundary_steiner,
+        faces: mesh_tris.iter().map(|t| t.map(VertexId)).collect(),
+        face_parent: work.parent.clone(),
         constrained,
     };
     Ok(bm)
@@ -670,11 +773,13 @@ fn finish(
 
 impl BoundaryMesh {
     /// The domain as an exchange mesh: the input vertices first, in input order, then
-    /// the interior Steiner points; tets with their region; the input triangles.
-    pub fn to_volume_mesh(&self, surface: &Surface) -> VolumeMesh {
+    /// the Steiner points on input edges, then the interior ones; tets with their
+    /// region; the boundary faces (the input triangles, or their pieces; the input
+    /// triangle of each is in [`BoundaryMesh::face_parent`]).
+    pub fn to_volume_mesh(&self) -> VolumeMesh {
         let mut index = vec![u32::MAX; self.mesh.num_vertices()];
         let mut vertices = Vec::with_capacity(self.surface_vertex.len() + self.steiner.len());
-        for v in &self.surface_vertex {
+        for v in self.surface_vertex.iter().chain(&self.boundary_steiner) {
             index[v.index()] = vertices.len() as u32;
             vertices.push(self.mesh.point(*v));
         }
@@ -699,8 +804,12 @@ impl BoundaryMesh {
             vertices,
             tets,
             tet_refs,
-            triangles: surface.triangles.clone(),
-            triangle_refs: vec![1; surface.triangles.len()],
+            triangles: self
+                .faces
+                .iter()
+                .map(|f| f.map(|v| index[v.index()]))
+                .collect(),
+            triangle_refs: vec![1; self.faces.len()],
             vertex_sizes: None,
         }
     }

@@ -250,44 +250,6 @@ impl Recovery {
         true
     }
 
-    /// Removes vertex `s` (a Steiner point, on no constrained entity): its star is
-    /// re-tetrahedralised as the cone from one of its neighbours that sees every face of
-    /// the star's boundary (tried in id order). Constrained edges and faces are never on
-    /// the inside of the star (they do not touch `s`), so they all stay.
-    pub fn remove_vertex(&mut self, s: u32) -> bool {
-        let mut star = Vec::new();
-        self.l.star(s, &mut star);
-        if star.is_empty() || star.iter().any(|&t| self.l.is_ghost(t)) {
-            return false;
-        }
-        let mut link: Vec<[u32; 3]> = Vec::with_capacity(star.len());
-        for &t in &star {
-            let v = self.l.tet(t);
-            let Some(i) = (0..4).find(|&i| v[i] == s) else {
-                return false;
-            };
-            link.push(FACE_VERTICES[i].map(|k| v[k]));
-        }
-        let mut nbrs: Vec<u32> = link.iter().flatten().copied().collect();
-        nbrs.sort_unstable();
-        nbrs.dedup();
-        for u in nbrs {
-            let new: Vec<[u32; 4]> = link
-                .iter()
-                .filter(|f| !f.contains(&u))
-                .map(|f| [f[0], f[1], f[2], u])
-                .collect();
-            if new
-                .iter()
-                .all(|t| self.l.orient(t[0], t[1], t[2], t[3]) == Orientation::Positive)
-                && self.l.replace(&star, &new).is_ok()
-            {
-                return true;
-            }
-        }
-        false
-    }
-
     /// The flat case of [`Recovery::schonhardt`]: `a`, `b`, `x`, `y` are coplanar and the
     /// segment `ab` crosses the edge `xy` (a flat quad `a x b y` with the other
     /// diagonal). The ring of `xy` splits at `a` and `b` into two paths, one on each
@@ -384,7 +346,7 @@ impl Recovery {
 
     /// A point strictly on the positive side of every face (inexact search, exact
     /// check), or `None`: a compass search maximising the smallest scaled volume.
-    fn kernel_point(&self, faces: &[[u32; 3]]) -> Option<Point> {
+    pub(super) fn kernel_point(&self, faces: &[[u32; 3]]) -> Option<Point> {
         let pts: Vec<[Point; 3]> = faces.iter().map(|f| f.map(|v| self.l.p(v))).collect();
         let n = (pts.len() * 3) as f64;
         let mut c = pts.iter().flatten().copied().sum::<Point>() / n;

@@ -172,6 +172,27 @@ pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Orientation {
     ))
 }
 
+/// Whether `p` lies on the open segment `(a, b)`, decided exactly: collinear in the
+/// three coordinate projections and strictly between the end points.
+pub fn on_open_segment(a: DVec3, b: DVec3, p: DVec3) -> bool {
+    let proj = |v: DVec3, i: usize, j: usize| [v[i], v[j]];
+    let collinear = [(0, 1), (1, 2), (2, 0)]
+        .iter()
+        .all(|&(i, j)| orient2d(proj(a, i, j), proj(b, i, j), proj(p, i, j)) == Orientation::Zero);
+    // On the line, `p` is strictly between iff it is on a coordinate where `a` and `b`
+    // differ (exact comparisons).
+    collinear
+        && (0..3).any(|i| a[i] != b[i])
+        && (0..3).all(|i| {
+            let (lo, hi) = (a[i].min(b[i]), a[i].max(b[i]));
+            if lo == hi {
+                p[i] == lo
+            } else {
+                lo < p[i] && p[i] < hi
+            }
+        })
+}
+
 /// Position of `e` with respect to the circumsphere of the positively oriented
 /// tetrahedron `(a, b, c, d)`. Exact. The answer is meaningless if the tetrahedron is
 /// flat.
@@ -479,6 +500,19 @@ mod tests {
 
     fn v(x: f64, y: f64, z: f64) -> DVec3 {
         DVec3::new(x, y, z)
+    }
+
+    #[test]
+    fn on_open_segment_is_exact() {
+        let (a, b) = (v(0.0, 0.0, 0.0), v(1.0, 2.0, 4.0));
+        assert!(on_open_segment(a, b, v(0.5, 1.0, 2.0)));
+        assert!(!on_open_segment(a, b, a));
+        assert!(!on_open_segment(a, b, v(2.0, 4.0, 8.0)));
+        // One unit in the last place off the line.
+        assert!(!on_open_segment(a, b, v(0.5, 1.0, 2.0f64.next_up())));
+        // Symmetric end points: the origin is exactly between them.
+        let c = v(0.1, 0.7, 0.3);
+        assert!(on_open_segment(-c, c, v(0.0, 0.0, 0.0)));
     }
 
     #[test]

@@ -1,0 +1,237 @@
+//! Steiner point suppression after the recovery (paper §4.2: Steiner points are removed
+//! or relocated where the mesh allows; George, Borouchaki and Saltel, "'Ultimate'
+//! robustness in meshing an arbitrary polyhedron", IJNME 2003, §5).
+//!
+//! - An interior Steiner point goes when its star can be re-tetrahedralised as the cone
+//!   from one of its neighbours.
+//! - A split point `m` on an input edge `(u, w)` goes when its star can be rebuilt with
+//!   the two unsplit triangles `(u, w, c)` and `(u, w, d)` as faces: they cut the star
+//!   into two parts (one on each side of the surface), and each part is the cone from
+//!   one of its own vertices that sees all its faces, or else from a new point in its
+//!   kernel, an interior Steiner point (outside the domain, on the outer side, it
+//!   disappears with the outside). The surface is then unsplit there.
+
+use super::recover::Recovery;
+use crate::geom::predicates::{orient3d, Orientation};
+use crate::geom::Point;
+use crate::tetmesh::{FaceRef, FACE_VERTICES};
+
+impl Recovery {
+    /// Removes vertex `s` (a Steiner point, on no constrained entity): its star is
+    /// re-tetrahedralised as the cone from one of its neighbours that sees every face of
+    /// the star's boundary (tried in id order). Constrained edges and faces are never on
+    /// the inside of the star (they do not touch `s`), so they all stay.
+    pub fn remove_vertex(&mut self, s: u32) -> bool {
+        let mut star = Vec::new();
+        self.l.star(s, &mut star);
+        if star.is_empty() || star.iter().any(|&t| self.l.is_ghost(t)) {
+            return false;
+        }
+        let Some(link) = self.link(s, &star) else {
+            return false;
+        };
+        let mut nbrs: Vec<u32> = link.iter().flatten().copied().collect();
+        nbrs.sort_unstable();
+        nbrs.dedup();
+        for u in nbrs {
+            let new: Vec<[u32; 4]> = link
+                .iter()
+                .filter(|f| !f.contains(&u))
+                .map(|f| [f[0], f[1], f[2], u])
+                .collect();
+            if new
+                .iter()
+                .all(|t| self.l.orient(t[0], t[1], t[2], t[3]) == Orientation::Positive)
+                && self.l.replace(&star, &new).is_ok()
+            {
+                return true;
+            }
+        }
+        false
+    }
+
+    /// The faces of the star of `s` opposite `s`, seen from inside the star.
+    fn link(&self, s: u32, star: &[u32]) -> Option<Vec<[u32; 3]>> {
+        star.iter()
+            .map(|&t| {
+                let v = self.l.tet(t);
+                let i = (0..4).find(|&i| v[i] == s)?;
+                Some(FACE_VERTICES[i].map(|k| v[k]))
+            })
+            .collect()
+    }
+
+    /// Removes the split point `m` of input edge `(u, w)`, whose surface star is the
+    /// triangles `(u, m, c)`, `(m, w, c)`, `(u, m, d)`, `(m, w, d)`; on success the
+    /// mesh has the faces `(u, w, c)` and `(u, w, d)` and the locks follow.
+    pub fn suppress_split(&mut self, [m, u, w]: [u32; 3], [c, d]: [u32; 2]) -> bool {
+        let mut star = Vec::new();
+        self.l.star(m, &mut star);
+        if star.is_empty() || star.iter().any(|&t| self.l.is_ghost(t)) {
+            return false;
+        }
+        let cut = [[u, m, c], [m, w, c], [u, m, d], [m, w, d]].map(sorted);
+        let Some(sides) = self.sides(m, &star, &cut) else {
+            return false;
+        };
+        let mut new: Vec<[u32; 4]> = Vec::new();
+        let mut added = Vec::new();
+        for side in &sides {
+            let Some(mut faces) = self.link(m, side) else {
+                return self.give_up(&added);
+            };
+            // The unsplit triangles, seen from this side: a tet of the side on
+            // (u, m, c) tells which side of the plane it is.
+            for x in [c, d] {
+                let Some(q) = side.iter().find_map(|&t| {
+                    let v = self.l.tet(t);
+                    let has = [u, m, x].iter().all(|y| v.contains(y));
+                    has.then(|| v.into_iter().find(|y| ![u, m, x].contains(y)))
+                        .flatten()
+                }) else {
+                    return self.give_up(&added);
+                };
+                faces.push(if self.l.orient(u, m, x, q) == Orientation::Positive {
+                    [u, w, x]
+                } else {
+                    [w, u, x]
+                });
+            }
+            let n = faces.len();
+            let apex = match self.apex(&faces) {
+                Some(a) => a,
+                None => match self
+                    .near_point(m, &faces[n - 2..], &faces)
+                    .or_else(|| self.kernel_point(&faces))
+                {
+                    Some(p) => {
+                        let v = self.l.mesh.push_vertex(p).0;
+                        added.push(v);
+                        v
+                    }
+                    None => return self.give_up(&added),
+                },
+            };
+            new.extend(
+                faces
+                    .iter()
+                    .filter(|f| !f.contains(&apex))
+                    .map(|f| [f[0], f[1], f[2], apex]),
+            );
+        }
+        if self.l.replace(&star, &new).is_err() {
+            return self.give_up(&added);
+        }
+        self.steiner.extend(&added);
+        for f in cut {
+            self.locks.faces.remove(&f);
+        }
+        for x in [u, w, c, d] {
+            self.locks.edges.remove(&(m.min(x), m.max(x)));
+        }
+        self.locks.edges.insert((u.min(w), u.max(w)));
+        self.locks.faces.insert(sorted([u, w, c]));
+        self.locks.faces.insert(sorted([u, w, d]));
+        true
+    }
+
+    /// The star of `m` split in two by the faces `cut`: the tets reachable from the
+    /// first without crossing them, and the rest. `None` unless both are non-empty and
+    /// connected.
+    fn sides(&self, m: u32, star: &[u32], cut: &[[u32; 3]; 4]) -> Option<[Vec<u32>; 2]> {
+        let mut side = vec![u8::MAX; star.len()];
+        let pos = |t: u32| star.iter().position(|&s| s == t);
+        for label in [0u8, 1] {
+            let start = side.iter().position(|&s| s == u8::MAX)?;
+            side[start] = label;
+            let mut stack = vec![start];
+            while let Some(k) = stack.pop() {
+                let t = star[k];
+                let v = self.l.tet(t);
+                let adj = self.l.adj(t);
+                for i in 0..4 {
+                    if v[i] == m {
+                        continue;
+                    }
+                    let f = sorted(FACE_VERTICES[i].map(|j| v[j]));
+                    if cut.contains(&f) {
+                        continue;
+                    }
+                    let nb = FaceRef::from_raw(adj[i]).tet().0;
+                    if let Some(j) = pos(nb) {
+                        if side[j] == u8::MAX {
+                            side[j] = label;
+                            stack.push(j);
+                        }
+                    }
+                }
+            }
+        }
+        if side.contains(&u8::MAX) {
+            return None;
+        }
+        let part = |l: u8| -> Vec<u32> {
+            (0..star.len())
+                .filter(|&k| side[k] == l)
+                .map(|k| star[k])
+                .collect()
+        };
+        Some([part(0), part(1)])
+    }
+
+    /// A vertex of `faces` from which every face it is not on is seen positively.
+    fn apex(&self, faces: &[[u32; 3]]) -> Option<u32> {
+        let mut verts: Vec<u32> = faces.iter().flatten().copied().collect();
+        verts.sort_unstable();
+        verts.dedup();
+        verts.into_iter().find(|&x| {
+            faces
+                .iter()
+                .filter(|f| !f.contains(&x))
+                .all(|f| self.l.orient(f[0], f[1], f[2], x) == Orientation::Positive)
+        })
+    }
+
+    /// A point near `m` strictly inside every face of `faces`: off `m` along the
+    /// bisector of the two `cut` faces (a part of the star of `m` sees every link face
+    /// from points close enough to `m`, and the cut faces from inside their wedge).
+    fn near_point(&self, m: u32, cut: &[[u32; 3]], faces: &[[u32; 3]]) -> Option<Point> {
+        let pm = self.l.p(m);
+        let normal = |f: &[u32; 3]| {
+            let [a, b, c] = f.map(|v| self.l.p(v));
+            (b - a).cross(c - a).normalize_or_zero()
+        };
+        let dir = cut.iter().map(normal).sum::<Point>().normalize_or_zero();
+        let size = faces
+            .iter()
+            .flatten()
+            .map(|&v| (self.l.p(v) - pm).length())
+            .fold(f64::INFINITY, f64::min);
+        if dir == Point::ZERO || !size.is_finite() {
+            return None;
+        }
+        (1..48).find_map(|k| {
+            let p = pm + dir * (size * 0.5f64.powi(k));
+            faces
+                .iter()
+                .all(|f| {
+                    let [a, b, c] = f.map(|v| self.l.p(v));
+                    orient3d(a, b, c, p) == Orientation::Positive
+                })
+                .then_some(p)
+        })
+    }
+
+    /// Takes back the points added by a failed suppression (the newest vertices).
+    fn give_up(&mut self, added: &[u32]) -> bool {
+        for _ in added {
+            self.l.mesh.pop_vertex();
+        }
+        false
+    }
+}
+
+fn sorted(mut f: [u32; 3]) -> [u32; 3] {
+    f.sort_unstable();
+    f
+}
