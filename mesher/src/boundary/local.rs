@@ -48,6 +48,16 @@ pub(crate) struct Local {
 
 /// A face key: sorted vertex ids and whether the given order is an even permutation of
 /// the sorted one.
+/// Steps of the walk in a star before it falls back to the whole star.
+const WALK_STEPS: usize = 512;
+
+/// Outcome of the walk towards an edge.
+enum Walk {
+    Found(u32),
+    Absent,
+    Unsure,
+}
+
 fn face_key(f: [u32; 3]) -> ([u32; 3], bool) {
     let mut s = f;
     let mut even = true;
@@ -158,13 +168,61 @@ impl Local {
         }
     }
 
-    /// A live tet with edge `ab`, if the edge exists.
+    /// A live tet with edge `ab`, if the edge exists: a walk in the star of `a` towards
+    /// `b` (a few orientation tests instead of the whole star, which is large at a box
+    /// corner or a vertex of a big flat face), with the star as the fallback when the
+    /// walk meets the hull or does not settle.
     pub fn find_edge(&self, a: u32, b: u32, scratch: &mut Vec<u32>) -> Option<u32> {
-        self.star(a, scratch);
-        scratch
-            .iter()
-            .copied()
-            .find(|&t| !self.is_ghost(t) && self.tet(t).contains(&b))
+        match self.walk_to_edge(a, b) {
+            Walk::Found(t) => Some(t),
+            Walk::Absent => None,
+            Walk::Unsure => {
+                self.star(a, scratch);
+                scratch
+                    .iter()
+                    .copied()
+                    .find(|&t| !self.is_ghost(t) && self.tet(t).contains(&b))
+            }
+        }
+    }
+
+    /// The walk of [`Local::find_edge`]: from a tet at `a`, cross a face at `a` that has
+    /// `b` strictly beyond it, until a tet whose cone from `a` holds `b`: it has `b` as a
+    /// vertex exactly when the edge exists (else `ab` leaves through its opposite face).
+    fn walk_to_edge(&self, a: u32, b: u32) -> Walk {
+        let Some(&start) = self.v2t.get(a as usize) else {
+            return Walk::Unsure;
+        };
+        if start == u32::MAX || b == GHOST {
+            return Walk::Unsure;
+        }
+        let mut t = start;
+        let mut prev = u32::MAX;
+        for step in 0..WALK_STEPS {
+            if self.is_ghost(t) {
+                return Walk::Unsure;
+            }
+            let v = self.tet(t);
+            if v.contains(&b) {
+                return Walk::Found(t);
+            }
+            let adj = self.adj(t);
+            // Rotate the order of the faces tried so that degenerate cycles break.
+            let next = (0..4).map(|k| (k + step) % 4).find(|&i| {
+                v[i] != a && FaceRef::from_raw(adj[i]).tet().0 != prev && {
+                    let f = FACE_VERTICES[i].map(|k| v[k]);
+                    self.orient(f[0], f[1], f[2], b) == Orientation::Negative
+                }
+            });
+            match next {
+                Some(i) => {
+                    prev = t;
+                    t = FaceRef::from_raw(adj[i]).tet().0;
+                }
+                None => return Walk::Absent,
+            }
+        }
+        Walk::Unsure
     }
 
     /// The ring of edge `ab`: tets `(a, b, p_i, p_{i+1})`, each positively oriented in that
@@ -194,13 +252,45 @@ impl Local {
         }
     }
 
-    /// True when some live tet has face `{a, b, c}`.
+    /// True when some live tet has face `{a, b, c}`: a turn around the edge `ab`.
     pub fn has_face(&self, a: u32, b: u32, c: u32, scratch: &mut Vec<u32>) -> bool {
-        self.star(a, scratch);
-        scratch.iter().any(|&t| {
+        let Some(t0) = self.find_edge(a, b, scratch) else {
+            return false;
+        };
+        // Walk the tets around ab through the faces at ab, both ways round (the ring may
+        // meet the hull).
+        let mut t = t0;
+        let mut from = u32::MAX;
+        for _ in 0..WALK_STEPS {
             let v = self.tet(t);
-            v.contains(&b) && v.contains(&c)
-        })
+            if v.contains(&c) {
+                return true;
+            }
+            let adj = self.adj(t);
+            let next = (0..4)
+                .filter(|&i| v[i] != a && v[i] != b)
+                .map(|i| FaceRef::from_raw(adj[i]).tet().0)
+                .find(|&u| u != from);
+            match next {
+                Some(u) if u != t0 && !self.is_ghost(u) => {
+                    from = t;
+                    t = u;
+                }
+                Some(u) if self.is_ghost(u) => {
+                    // Finish the other way round from t0; the ghost may have c too.
+                    if self.tet(u).contains(&c) {
+                        return true;
+                    }
+                    self.star(a, scratch);
+                    return scratch.iter().any(|&t| {
+                        let v = self.tet(t);
+                        v.contains(&b) && v.contains(&c)
+                    });
+                }
+                _ => return false,
+            }
+        }
+        false
     }
 
     /// For each triangle (mesh vertex ids), the tet faces that are that triangle: per tet

@@ -19,6 +19,7 @@ use super::local::Local;
 use crate::geom::predicates::Orientation;
 use crate::geom::Point;
 use crate::tetmesh::FACE_VERTICES;
+use std::collections::HashMap;
 
 /// Largest set of tets a single search visits.
 const MAX_MET: usize = 4096;
@@ -672,14 +673,25 @@ impl Recovery {
         let mut seen: std::collections::HashSet<u32> = todo.iter().copied().collect();
         let mut edges: Vec<(u32, u32)> = Vec::new();
         let mut tets: Vec<u32> = Vec::new();
+        // Side of the triangle's plane per vertex, computed once.
+        let mut side: HashMap<u32, Orientation> = HashMap::new();
         while let Some(t) = todo.pop() {
             if seen.len() > MAX_MET {
                 return None;
             }
             let v = self.l.tet(t);
+            let sides = v.map(|x| {
+                *side
+                    .entry(x)
+                    .or_insert_with(|| self.l.orient(tri[0], tri[1], tri[2], x))
+            });
             let mut any = false;
             for (i, j) in [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)] {
                 let (x, y) = (v[i].min(v[j]), v[i].max(v[j]));
+                let (si, sj) = (sides[i], sides[j]);
+                if si == Orientation::Zero || sj == Orientation::Zero || si == sj {
+                    continue;
+                }
                 if self.crosses(tri, x, y) {
                     any = true;
                     if !edges.contains(&(x, y)) {
