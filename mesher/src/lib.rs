@@ -10,6 +10,7 @@ pub mod boundary;
 pub mod delaunay;
 pub mod geom;
 pub mod io;
+pub mod optimize;
 pub mod quality;
 pub mod surface;
 pub mod tetmesh;

@@ -198,7 +198,7 @@ fn forced(
 
 /// Klincsek's dynamic program over the polygon `idx` (indices in cyclic order): the
 /// triangulation maximising the smallest `q`, or `None` if every one has a `q <= 0`.
-fn best_triangulation(
+pub(crate) fn best_triangulation(
     idx: &[usize],
     q: &impl Fn(usize, usize, usize) -> f64,
 ) -> Option<Vec<[usize; 3]>> {

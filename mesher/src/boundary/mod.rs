@@ -23,8 +23,8 @@
 //! `suppress` (taking Steiner points out again).
 
 mod domain;
-mod flips;
-mod local;
+pub(crate) mod flips;
+pub(crate) mod local;
 mod recover;
 mod split;
 mod suppress;

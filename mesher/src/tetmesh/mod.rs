@@ -137,6 +137,11 @@ impl TetMesh {
         VertexId(self.points.len() as u32 - 1)
     }
 
+    /// Moves vertex `v` (the caller checks that its tets stay positive).
+    pub(crate) fn set_point(&mut self, v: VertexId, p: Point) {
+        self.points[v.index()] = p;
+    }
+
     /// Removes the last vertex, which no tet may use (undoing a refused Steiner point).
     pub(crate) fn pop_vertex(&mut self) {
         self.points.pop();

@@ -1,0 +1,221 @@
+//! Mesh optimisation (paper §6): the worst tets first, each improved by the first local
+//! operation that lowers the worst `Q_K` around it: removal of one of its edges
+//! (ring re-triangulation, including the 3-2 and 4-4 flips), a 2-3 flip of one of its
+//! faces, or the smoothing of one of its free vertices (§6.3.1). Passes repeat until one
+//! improves nothing or [`OptimizeOptions::max_passes`] is reached.
+//!
+//! Guarantees, by construction: an operation is applied only if the worst `Q_K` of the
+//! tets it touches strictly drops, so the worst `Q_K` of the mesh never rises; every new
+//! tet is exactly positive; constrained faces and their edges are never flipped and
+//! boundary vertices never move, so the boundary and the volume are unchanged.
+
+mod ops;
+
+use crate::boundary::flips::Locks;
+use crate::boundary::local::Local;
+use crate::quality::Histogram;
+use crate::tetmesh::TetMesh;
+use ops::Ops;
+use serde::Serialize;
+use std::time::Instant;
+
+/// How free vertices are moved.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub enum Smoothing {
+    /// Towards the mean of the ideal points of the ball's faces (paper §6.3.1); where
+    /// that does not improve the ball, towards the mean of the neighbours.
+    Optimal,
+    /// Towards the mean of the neighbours (for comparison).
+    Laplacian,
+    /// Never.
+    Off,
+}
+
+/// Parameters of the optimisation.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OptimizeOptions {
+    /// Bound on the passes over the bad tets.
+    pub max_passes: usize,
+    /// Tets with `Q_K` above this are worked on.
+    pub bad_quality: f64,
+    /// Vertex smoothing variant.
+    pub smoothing: Smoothing,
+}
+
+impl Default for OptimizeOptions {
+    fn default() -> Self {
+        OptimizeOptions {
+            max_passes: 8,
+            bad_quality: 2.0,
+            smoothing: Smoothing::Optimal,
+        }
+    }
+}
+
+/// What one pass did.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct PassStats {
+    /// Tets above [`OptimizeOptions::bad_quality`] at the start of the pass.
+    pub bad_tets: usize,
+    /// Edges removed.
+    pub edge_removals: u64,
+    /// 2-3 flips.
+    pub face_flips: u64,
+    /// Vertices moved.
+    pub smoothed: u64,
+    /// Worst `Q_K` in the domain after the pass.
+    pub worst: f64,
+    /// Seconds.
+    pub seconds: f64,
+}
+
+/// Histograms before (H1) and after (H2), and per-pass counts.
+#[derive(Clone, Debug, Serialize)]
+pub struct OptimizeReport {
+    /// `Q_K` histogram before (H1).
+    pub before: Histogram,
+    /// `Q_K` histogram after (H2).
+    pub after: Histogram,
+    /// Worst `Q_K` before.
+    pub worst_before: f64,
+    /// Worst `Q_K` after.
+    pub worst_after: f64,
+    /// Per pass.
+    pub passes: Vec<PassStats>,
+    /// Seconds in all.
+    pub seconds: f64,
+}
+
+/// A mesh to optimise: tets with a region each (0 = outside the domain, never touched),
+/// the constrained faces (their edges are locked too) and the vertices that must not
+/// move.
+pub struct Domain {
+    /// The mesh.
+    pub mesh: TetMesh,
+    /// Region per tet slot.
+    pub region: Vec<u32>,
+    /// Constrained faces (any vertex order).
+    pub constrained: Vec<[u32; 3]>,
+    /// Per vertex: true if it must not move.
+    pub fixed: Vec<bool>,
+}
+
+/// Optimises the domain's tets in place; returns what it did.
+pub fn optimize(domain: &mut Domain, options: &OptimizeOptions) -> OptimizeReport {
+    let t0 = Instant::now();
+    let mut locks = Locks::default();
+    for f in &domain.constrained {
+        let mut s = *f;
+        s.sort_unstable();
+        locks.faces.insert(s);
+        for (a, b) in [(s[0], s[1]), (s[1], s[2]), (s[0], s[2])] {
+            locks.edges.insert((a, b));
+        }
+    }
+    let mesh = std::mem::take(&mut domain.mesh);
+    let region = std::mem::take(&mut domain.region);
+    let fixed = std::mem::take(&mut domain.fixed);
+    let mut ops = Ops::new(Local::new(mesh), locks, region, fixed);
+    let (before, worst_before) = histogram(&ops);
+    let mut passes = Vec::new();
+    for _ in 0..options.max_passes {
+        let tp = Instant::now();
+        let mut stats = pass(&mut ops, options);
+        stats.worst = histogram(&ops).1;
+        stats.seconds = tp.elapsed().as_secs_f64();
+        let done = stats.edge_removals + stats.face_flips + stats.smoothed;
+        passes.push(stats);
+        if done == 0 {
+            break;
+        }
+    }
+    let (after, worst_after) = histogram(&ops);
+    domain.mesh = ops.l.mesh;
+    domain.region = ops.region;
+    domain.fixed = ops.fixed;
+    OptimizeReport {
+        before,
+        after,
+        worst_before,
+        worst_after,
+        passes,
+        seconds: t0.elapsed().as_secs_f64(),
+    }
+}
+
+/// One pass over the bad tets, worst first.
+fn pass(ops: &mut Ops, options: &OptimizeOptions) -> PassStats {
+    let mut bad: Vec<(f64, u32, [u32; 4])> = ops
+        .l
+        .mesh
+        .finite_tets()
+        .filter(|t| ops.region_of(t.0) != 0)
+        .map(|t| {
+            let v = ops.l.tet(t.0);
+            (ops.quality(v), t.0, v)
+        })
+        .filter(|b| b.0 > options.bad_quality)
+        .collect();
+    bad.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+    let mut stats = PassStats {
+        bad_tets: bad.len(),
+        ..PassStats::default()
+    };
+    for (_, t, v) in bad {
+        // The tet may be gone (its slot reused) since the list was made.
+        if !ops.l.mesh.is_alive(crate::tetmesh::TetId(t)) || ops.l.tet(t) != v {
+            continue;
+        }
+        if improve(ops, t, v, options, &mut stats) {
+            ops.l.forget();
+        }
+    }
+    stats
+}
+
+/// The first operation that improves the tet `t` (vertices `v`).
+fn improve(
+    ops: &mut Ops,
+    t: u32,
+    v: [u32; 4],
+    options: &OptimizeOptions,
+    stats: &mut PassStats,
+) -> bool {
+    for (i, j) in [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)] {
+        if ops.remove_edge(v[i], v[j]) {
+            stats.edge_removals += 1;
+            return true;
+        }
+    }
+    for i in 0..4 {
+        if ops.flip23(t, i) {
+            stats.face_flips += 1;
+            return true;
+        }
+    }
+    for x in v {
+        if ops.smooth(x, options.smoothing) {
+            stats.smoothed += 1;
+            return true;
+        }
+    }
+    false
+}
+
+/// The `Q_K` histogram of the domain's tets and the worst `Q_K`.
+fn histogram(ops: &Ops) -> (Histogram, f64) {
+    let mut h = Histogram::quality();
+    let mut worst: f64 = 1.0;
+    for t in ops.l.mesh.finite_tets() {
+        if ops.region_of(t.0) == 0 {
+            continue;
+        }
+        let q = ops.quality(ops.l.tet(t.0));
+        h.add(q);
+        worst = worst.max(q);
+    }
+    (h, worst)
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,225 @@
+//! The local operations of the optimiser (paper §6.2-§6.3), each accepted only when the
+//! worst `Q_K` of the tets it replaces strictly improves and every new tet is exactly
+//! positive (through [`Local::replace`] or an exact check of the moved ball).
+//!
+//! - Edge removal: the ring polygon of the edge re-triangulated by Klincsek's dynamic
+//!   program maximising the worst `1/Q_K` (Shewchuk, "Two discrete optimization
+//!   algorithms for the topological improvement of tetrahedral meshes", 2002); a ring
+//!   of 3 is the 3-2 flip, of 4 the 4-4 flip.
+//! - Face removal: the 2-3 flip.
+//! - Vertex smoothing (§6.3.1): the free vertex moves towards the mean of the ideal
+//!   points of its ball's faces (the apex of the regular tet on each face, on the
+//!   vertex's side), or towards the mean of its neighbours (Laplacian), by the longest
+//!   of a few halving steps that improves the ball.
+
+use super::Smoothing;
+use crate::boundary::flips::{best_triangulation, Locks, MAX_RING};
+use crate::boundary::local::Local;
+use crate::geom::predicates::Orientation;
+use crate::geom::Point;
+use crate::quality::tet::{q_k, signed_volume};
+use crate::tetmesh::{FaceRef, VertexId, FACE_VERTICES};
+
+/// Height of the regular tet over a face of edge `h`, over `h`: sqrt(2/3).
+const REGULAR_HEIGHT: f64 = 0.816_496_580_927_726;
+
+/// Step fractions tried by the smoothing, longest first.
+const STEPS: [f64; 4] = [1.0, 0.5, 0.25, 0.125];
+
+/// The mesh being optimised and what it must keep.
+pub(super) struct Ops {
+    pub l: Local,
+    pub locks: Locks,
+    /// Region per tet slot (0 outside the domain).
+    pub region: Vec<u32>,
+    /// Vertices that never move (on the boundary, box corners).
+    pub fixed: Vec<bool>,
+    scratch: Vec<u32>,
+}
+
+impl Ops {
+    pub fn new(l: Local, locks: Locks, region: Vec<u32>, fixed: Vec<bool>) -> Self {
+        Ops {
+            l,
+            locks,
+            region,
+            fixed,
+            scratch: Vec::new(),
+        }
+    }
+
+    /// `Q_K` of a tet given by its vertices.
+    pub fn quality(&self, t: [u32; 4]) -> f64 {
+        q_k(&t.map(|v| self.l.p(v)))
+    }
+
+    /// Region of tet slot `t` (0 outside or unknown).
+    pub fn region_of(&self, t: u32) -> u32 {
+        self.region.get(t as usize).copied().unwrap_or(0)
+    }
+
+    fn worst(&self, tets: &[u32]) -> f64 {
+        tets.iter()
+            .map(|&t| self.quality(self.l.tet(t)))
+            .fold(1.0, f64::max)
+    }
+
+    /// Gives the tets of the last replace the region `r`.
+    fn claim(&mut self, r: u32) {
+        let n = self.l.mesh.num_slots();
+        if self.region.len() < n {
+            self.region.resize(n, 0);
+        }
+        for &t in &self.l.created {
+            self.region[t as usize] = r;
+        }
+    }
+
+    /// Removes edge `xy` if the best re-triangulation of its ring is better.
+    pub fn remove_edge(&mut self, x: u32, y: u32) -> bool {
+        if self.locks.edge(x, y) {
+            return false;
+        }
+        let Some(ring) = self.l.ring(x, y, &mut self.scratch) else {
+            return false;
+        };
+        if ring.len() < 3 || ring.len() > MAX_RING {
+            return false;
+        }
+        let old: Vec<u32> = ring.iter().map(|r| r.0).collect();
+        let r = self.region_of(old[0]);
+        if r == 0 || old.iter().any(|&t| self.region_of(t) != r) {
+            return false;
+        }
+        let before = self.worst(&old);
+        let poly: Vec<u32> = ring.iter().map(|r| r.1).collect();
+        let pts: Vec<Point> = poly.iter().map(|&v| self.l.p(v)).collect();
+        let (px, py) = (self.l.p(x), self.l.p(y));
+        let inv = |t: [Point; 4]| {
+            if signed_volume(&t) > 0.0 {
+                1.0 / q_k(&t)
+            } else {
+                -1.0
+            }
+        };
+        let q = |i: usize, j: usize, k: usize| -> f64 {
+            let (a, b, c) = (pts[i], pts[j], pts[k]);
+            inv([a, b, c, py]).min(inv([b, a, c, px]))
+        };
+        let idx: Vec<usize> = (0..poly.len()).collect();
+        let Some(tris) = best_triangulation(&idx, &q) else {
+            return false;
+        };
+        let mut new = Vec::with_capacity(tris.len() * 2);
+        for [i, j, k] in tris {
+            let (a, b, c) = (poly[i], poly[j], poly[k]);
+            new.push([a, b, c, y]);
+            new.push([b, a, c, x]);
+        }
+        let after = new.iter().map(|&t| self.quality(t)).fold(1.0, f64::max);
+        if after >= before || self.l.replace(&old, &new).is_err() {
+            return false;
+        }
+        self.claim(r);
+        true
+    }
+
+    /// The 2-3 flip of the face opposite vertex `i` of tet `t`, if better.
+    pub fn flip23(&mut self, t: u32, i: usize) -> bool {
+        let v = self.l.tet(t);
+        let f = FACE_VERTICES[i].map(|k| v[k]);
+        if self.locks.face(f) {
+            return false;
+        }
+        let nb = FaceRef::from_raw(self.l.adj(t)[i]);
+        let u = nb.tet().0;
+        let r = self.region_of(t);
+        if self.l.is_ghost(u) || r == 0 || self.region_of(u) != r {
+            return false;
+        }
+        let (d, e) = (v[i], self.l.tet(u)[nb.facet()]);
+        let new = [[f[0], f[1], e, d], [f[1], f[2], e, d], [f[2], f[0], e, d]];
+        let before = self.worst(&[t, u]);
+        let after = new.iter().map(|&t| self.quality(t)).fold(1.0, f64::max);
+        if after >= before || self.l.replace(&[t, u], &new).is_err() {
+            return false;
+        }
+        self.claim(r);
+        true
+    }
+
+    /// Moves free vertex `v` if that improves the worst tet of its ball.
+    pub fn smooth(&mut self, v: u32, how: Smoothing) -> bool {
+        if how == Smoothing::Off || self.fixed.get(v as usize) != Some(&false) {
+            return false;
+        }
+        let mut star = Vec::new();
+        self.l.star(v, &mut star);
+        if star.is_empty()
+            || star
+                .iter()
+                .any(|&t| self.l.is_ghost(t) || self.region_of(t) == 0)
+        {
+            return false;
+        }
+        let mut link: Vec<[u32; 3]> = Vec::with_capacity(star.len());
+        for &t in &star {
+            let tv = self.l.tet(t);
+            let Some(i) = (0..4).find(|&i| tv[i] == v) else {
+                return false;
+            };
+            link.push(FACE_VERTICES[i].map(|k| tv[k]));
+        }
+        // The optimal point first; where it does not help, the Laplacian one (the
+        // optimal point can sit on the far side of a sliver's flat direction).
+        let tries: &[Smoothing] = match how {
+            Smoothing::Optimal => &[Smoothing::Optimal, Smoothing::Laplacian],
+            _ => &[how],
+        };
+        let old = self.l.p(v);
+        let before = self.worst(&star);
+        for &kind in tries {
+            let Some(target) = self.target(&link, v, kind) else {
+                continue;
+            };
+            for s in STEPS {
+                let p = old + (target - old) * s;
+                self.l.mesh.set_point(VertexId(v), p);
+                let positive = link
+                    .iter()
+                    .all(|f| self.l.orient(f[0], f[1], f[2], v) == Orientation::Positive);
+                if positive && self.worst(&star) < before {
+                    return true;
+                }
+            }
+        }
+        self.l.mesh.set_point(VertexId(v), old);
+        false
+    }
+
+    /// Where smoothing moves a vertex whose ball has the faces `link` (seen from it).
+    fn target(&self, link: &[[u32; 3]], v: u32, how: Smoothing) -> Option<Point> {
+        let n = link.len() as f64;
+        let sum = match how {
+            Smoothing::Off => return None,
+            Smoothing::Laplacian => {
+                let mut nb: Vec<u32> = link.iter().flatten().copied().collect();
+                nb.sort_unstable();
+                nb.dedup();
+                let m = nb.len() as f64;
+                return Some(nb.iter().map(|&u| self.l.p(u)).sum::<Point>() / m);
+            }
+            Smoothing::Optimal => link
+                .iter()
+                .map(|f| {
+                    let [a, b, c] = f.map(|u| self.l.p(u));
+                    let h = ((b - a).length() + (c - b).length() + (a - c).length()) / 3.0;
+                    let normal = (b - a).cross(c - a).normalize_or_zero();
+                    (a + b + c) / 3.0 + normal * (h * REGULAR_HEIGHT)
+                })
+                .sum::<Point>(),
+        };
+        let t = sum / n;
+        (t.is_finite() && t != self.l.p(v)).then_some(t)
+    }
+}

@@ -1,0 +1,201 @@
+use super::*;
+use crate::boundary::{boundary_mesh, BoundaryOptions};
+use crate::delaunay::{sort::SplitMix64, triangulate, DelaunayOptions};
+use crate::geom::Point;
+use crate::quality::tet::signed_volume;
+use crate::surface::generate;
+use crate::tetmesh::{TetId, FACE_VERTICES};
+
+/// The Delaunay mesh of random points in the unit cube (corners included) as a domain:
+/// the hull is its constrained boundary and the hull vertices are fixed. Random
+/// Delaunay meshes have slivers, so there is work to do.
+fn random_domain(n: usize, seed: u64) -> Domain {
+    let mut rng = SplitMix64::new(seed);
+    let mut r = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+    let mut pts: Vec<Point> = (0..8)
+        .map(|i| Point::new((i & 1) as f64, ((i >> 1) & 1) as f64, (i >> 2) as f64))
+        .collect();
+    pts.extend((0..n).map(|_| Point::new(r(), r(), r())));
+    let tr = triangulate(&pts, &DelaunayOptions::default()).expect("a triangulation");
+    let mesh = tr.mesh;
+    let mut region = vec![0; mesh.num_slots()];
+    let mut constrained = Vec::new();
+    let mut fixed = vec![false; mesh.num_vertices()];
+    for t in mesh.tets() {
+        if mesh.is_ghost(t) {
+            let v = mesh.tet(t);
+            let f = [v[0].0, v[1].0, v[2].0];
+            constrained.push(f);
+            for x in f {
+                fixed[x as usize] = true;
+            }
+        } else {
+            region[t.index()] = 1;
+        }
+    }
+    Domain {
+        mesh,
+        region,
+        constrained,
+        fixed,
+    }
+}
+
+/// Sorted boundary faces of the domain and its volume.
+fn boundary_and_volume(d: &Domain) -> (Vec<[u32; 3]>, f64) {
+    let mut faces = Vec::new();
+    let mut volume = 0.0;
+    for t in d.mesh.finite_tets() {
+        if d.region[t.index()] == 0 {
+            continue;
+        }
+        volume += signed_volume(&d.mesh.tet_points(t));
+        for (i, fv) in FACE_VERTICES.iter().enumerate() {
+            let nb = d.mesh.neighbor(t, i).tet();
+            if d.mesh.is_ghost(nb) || d.region[nb.index()] == 0 {
+                let v = d.mesh.tet(t);
+                let mut f = fv.map(|k| v[k].0);
+                f.sort_unstable();
+                faces.push(f);
+            }
+        }
+    }
+    faces.sort_unstable();
+    (faces, volume)
+}
+
+fn check(name: &str, d: &mut Domain, options: &OptimizeOptions) -> OptimizeReport {
+    let (faces, volume) = boundary_and_volume(d);
+    let fixed_points: Vec<Point> = (0..d.mesh.num_vertices())
+        .filter(|&v| d.fixed[v])
+        .map(|v| d.mesh.point(crate::tetmesh::VertexId(v as u32)))
+        .collect();
+    let r = optimize(d, options);
+    d.mesh
+        .validate(false)
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
+    let (faces2, volume2) = boundary_and_volume(d);
+    assert_eq!(faces, faces2, "{name}: the boundary changed");
+    assert!(
+        (volume - volume2).abs() <= 1e-12 * volume.abs(),
+        "{name}: volume {volume} -> {volume2}"
+    );
+    let fixed_after: Vec<Point> = (0..d.mesh.num_vertices())
+        .filter(|&v| d.fixed[v])
+        .map(|v| d.mesh.point(crate::tetmesh::VertexId(v as u32)))
+        .collect();
+    assert_eq!(fixed_points, fixed_after, "{name}: a fixed vertex moved");
+    assert!(
+        r.worst_after <= r.worst_before,
+        "{name}: worst {} -> {}",
+        r.worst_before,
+        r.worst_after
+    );
+    for t in d.mesh.finite_tets() {
+        if d.region[t.index()] != 0 {
+            let v = d.mesh.tet(t);
+            let p = v.map(|x| d.mesh.point(x));
+            assert_eq!(
+                crate::geom::predicates::orient3d(p[0], p[1], p[2], p[3]),
+                crate::geom::predicates::Orientation::Positive,
+                "{name}: tet {t:?} not positive"
+            );
+        }
+    }
+    r
+}
+
+#[test]
+fn random_delaunay_meshes_improve_and_keep_their_boundary() {
+    for seed in 0..4 {
+        let mut d = random_domain(300, seed);
+        let r = check("random", &mut d, &OptimizeOptions::default());
+        assert!(r.worst_after < r.worst_before, "seed {seed}: {r:?}");
+        // Fewer bad tets after than before.
+        let bad = |h: &Histogram| h.counts.iter().skip(3).sum::<u64>();
+        assert!(bad(&r.after) < bad(&r.before), "seed {seed}");
+    }
+}
+
+#[test]
+fn every_smoothing_variant_is_safe() {
+    for how in [Smoothing::Optimal, Smoothing::Laplacian, Smoothing::Off] {
+        let mut d = random_domain(200, 9);
+        let options = OptimizeOptions {
+            smoothing: how,
+            ..OptimizeOptions::default()
+        };
+        check("variant", &mut d, &options);
+    }
+}
+
+#[test]
+fn boundary_meshes_keep_their_surface() {
+    for (name, s) in [
+        ("torus", generate::torus(24, 12, 1.0, 0.3)),
+        ("sphere", generate::icosphere(2)),
+    ] {
+        let (bm, _) = boundary_mesh(&s, &BoundaryOptions::default()).expect("T(S,F)");
+        let mut fixed = vec![false; bm.mesh.num_vertices()];
+        for v in bm
+            .surface_vertex
+            .iter()
+            .chain(&bm.boundary_steiner)
+            .chain(&bm.box_corners)
+        {
+            fixed[v.index()] = true;
+        }
+        let mut d = Domain {
+            constrained: bm.faces.iter().map(|f| f.map(|v| v.0)).collect(),
+            mesh: bm.mesh,
+            region: bm.region,
+            fixed,
+        };
+        check(name, &mut d, &OptimizeOptions::default());
+    }
+}
+
+#[test]
+fn same_input_same_result() {
+    let run = || {
+        let mut d = random_domain(200, 3);
+        optimize(&mut d, &OptimizeOptions::default());
+        let tets: Vec<[u32; 4]> = d
+            .mesh
+            .finite_tets()
+            .map(|t: TetId| d.mesh.tet(t).map(|v| v.0))
+            .collect();
+        (tets, d.mesh.points().to_vec())
+    };
+    assert_eq!(run(), run());
+}
+
+#[test]
+#[ignore]
+fn print_random() {
+    for how in [Smoothing::Optimal, Smoothing::Laplacian, Smoothing::Off] {
+        let mut d = random_domain(3000, 1);
+        let r = optimize(
+            &mut d,
+            &OptimizeOptions {
+                smoothing: how,
+                max_passes: 20,
+                ..OptimizeOptions::default()
+            },
+        );
+        let pct =
+            |h: &Histogram| 100.0 * h.counts[..2].iter().sum::<u64>() as f64 / h.total() as f64;
+        eprintln!(
+            "{how:?}: worst {:.1} -> {:.2}, %<3 {:.1} -> {:.1}, {:.3} s, passes {}",
+            r.worst_before,
+            r.worst_after,
+            pct(&r.before),
+            pct(&r.after),
+            r.seconds,
+            r.passes.len()
+        );
+        for p in &r.passes {
+            eprintln!("  {p:?}");
+        }
+    }
+}
