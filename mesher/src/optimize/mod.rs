@@ -1,8 +1,10 @@
 //! Mesh optimisation (paper §6): the worst tets first, each improved by the first local
 //! operation that lowers the worst `Q_K` around it: removal of one of its edges
 //! (ring re-triangulation, including the 3-2 and 4-4 flips), a 2-3 flip of one of its
-//! faces, or the smoothing of one of its free vertices (§6.3.1). Passes repeat until one
-//! improves nothing or [`OptimizeOptions::max_passes`] is reached.
+//! faces, the smoothing of one of its free vertices (§6.3.1), or, last, the insertion
+//! of a point (the cone from a new point over the tet and its neighbours: slivers whose
+//! four vertices lie on the boundary). Passes repeat until one improves nothing or
+//! [`OptimizeOptions::max_passes`] is reached.
 //!
 //! Guarantees, by construction: an operation is applied only if the worst `Q_K` of the
 //! tets it touches strictly drops, so the worst `Q_K` of the mesh never rises; every new
@@ -40,6 +42,8 @@ pub struct OptimizeOptions {
     pub bad_quality: f64,
     /// Vertex smoothing variant.
     pub smoothing: Smoothing,
+    /// Insert a point in a tet that no flip or move improves (the last resort).
+    pub insert: bool,
 }
 
 impl Default for OptimizeOptions {
@@ -48,6 +52,7 @@ impl Default for OptimizeOptions {
             max_passes: 8,
             bad_quality: 2.0,
             smoothing: Smoothing::Optimal,
+            insert: true,
         }
     }
 }
@@ -63,6 +68,8 @@ pub struct PassStats {
     pub face_flips: u64,
     /// Vertices moved.
     pub smoothed: u64,
+    /// Points inserted.
+    pub inserted: u64,
     /// Worst `Q_K` in the domain after the pass.
     pub worst: f64,
     /// Seconds.
@@ -123,7 +130,7 @@ pub fn optimize(domain: &mut Domain, options: &OptimizeOptions) -> OptimizeRepor
         let mut stats = pass(&mut ops, options);
         stats.worst = histogram(&ops).1;
         stats.seconds = tp.elapsed().as_secs_f64();
-        let done = stats.edge_removals + stats.face_flips + stats.smoothed;
+        let done = stats.edge_removals + stats.face_flips + stats.smoothed + stats.inserted;
         passes.push(stats);
         if done == 0 {
             break;
@@ -198,6 +205,10 @@ fn improve(
             stats.smoothed += 1;
             return true;
         }
+    }
+    if options.insert && ops.insert_in(t) {
+        stats.inserted += 1;
+        return true;
     }
     false
 }

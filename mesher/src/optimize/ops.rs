@@ -170,16 +170,28 @@ impl Ops {
             };
             link.push(FACE_VERTICES[i].map(|k| tv[k]));
         }
-        // The optimal point first; where it does not help, the Laplacian one (the
-        // optimal point can sit on the far side of a sliver's flat direction).
+        // The optimal point first; where it does not help, the apex of the regular tet
+        // on the face of the worst tet opposite the vertex (which lifts a sliver off its
+        // flat direction), then the Laplacian point.
         let tries: &[Smoothing] = match how {
-            Smoothing::Optimal => &[Smoothing::Optimal, Smoothing::Laplacian],
+            Smoothing::Optimal => &[Smoothing::Optimal, Smoothing::Off, Smoothing::Laplacian],
             _ => &[how],
         };
         let old = self.l.p(v);
         let before = self.worst(&star);
+        let worst_face = star
+            .iter()
+            .zip(&link)
+            .map(|(&t, f)| (self.quality(self.l.tet(t)), *f))
+            .max_by(|a, b| a.0.total_cmp(&b.0))
+            .map(|w| w.1);
         for &kind in tries {
-            let Some(target) = self.target(&link, v, kind) else {
+            let target = match (kind, worst_face) {
+                (Smoothing::Off, Some(f)) => self.target(&[f], v, Smoothing::Optimal),
+                (Smoothing::Off, None) => None,
+                _ => self.target(&link, v, kind),
+            };
+            let Some(target) = target else {
                 continue;
             };
             for s in STEPS {
@@ -195,6 +207,74 @@ impl Ops {
         }
         self.l.mesh.set_point(VertexId(v), old);
         false
+    }
+
+    /// Inserts a point in tet `t` (with its neighbours across faces that are not
+    /// constrained): the cone from the mean of the ideal points of the region's faces,
+    /// if every new tet is positive and the region's worst `Q_K` drops. The point is
+    /// free (smoothing moves it later).
+    pub fn insert_in(&mut self, t: u32) -> bool {
+        let r = self.region_of(t);
+        if r == 0 || self.l.is_ghost(t) {
+            return false;
+        }
+        let v = self.l.tet(t);
+        let adj = self.l.adj(t);
+        let mut region = vec![t];
+        for (i, fv) in FACE_VERTICES.iter().enumerate() {
+            let u = FaceRef::from_raw(adj[i]).tet().0;
+            if !self.locks.face(fv.map(|k| v[k])) && !self.l.is_ghost(u) && self.region_of(u) == r {
+                region.push(u);
+            }
+        }
+        for cavity in [&region[..], &region[..1]] {
+            if self.cone_new_point(cavity, r) {
+                return true;
+            }
+        }
+        false
+    }
+
+    /// Replaces `cavity` by the cone from a new point at the mean of the ideal points
+    /// of its boundary faces, if that improves its worst tet.
+    fn cone_new_point(&mut self, cavity: &[u32], r: u32) -> bool {
+        let mut faces: Vec<[u32; 3]> = Vec::new();
+        for &c in cavity {
+            let v = self.l.tet(c);
+            let adj = self.l.adj(c);
+            for (i, fv) in FACE_VERTICES.iter().enumerate() {
+                if !cavity.contains(&FaceRef::from_raw(adj[i]).tet().0) {
+                    faces.push(fv.map(|k| v[k]));
+                }
+            }
+        }
+        // Each face listed as its tet lists it has the cavity on its positive side, where
+        // its ideal point is.
+        let inward = faces;
+        let Some(p) = self.target(&inward, u32::MAX, Smoothing::Optimal) else {
+            return false;
+        };
+        let before = self.worst(cavity);
+        let new: Vec<[u32; 4]> = inward
+            .iter()
+            .map(|f| [f[0], f[1], f[2], u32::MAX])
+            .collect();
+        let pts = |t: &[u32; 4]| t.map(|x| if x == u32::MAX { p } else { self.l.p(x) });
+        let after = new.iter().map(|t| q_k(&pts(t))).fold(1.0, f64::max);
+        if after >= before || new.iter().any(|t| signed_volume(&pts(t)) <= 0.0) {
+            return false;
+        }
+        let x = self.l.mesh.push_vertex(p).0;
+        let new: Vec<[u32; 4]> = new.iter().map(|t| [t[0], t[1], t[2], x]).collect();
+        if self.l.replace(cavity, &new).is_err() {
+            self.l.mesh.pop_vertex();
+            return false;
+        }
+        if self.fixed.len() <= x as usize {
+            self.fixed.resize(x as usize + 1, false);
+        }
+        self.claim(r);
+        true
     }
 
     /// Where smoothing moves a vertex whose ball has the faces `link` (seen from it).
@@ -220,6 +300,7 @@ impl Ops {
                 .sum::<Point>(),
         };
         let t = sum / n;
-        (t.is_finite() && t != self.l.p(v)).then_some(t)
+        let same = v != u32::MAX && t == self.l.p(v);
+        (t.is_finite() && !same).then_some(t)
     }
 }
