@@ -249,19 +249,32 @@ impl Ops {
             }
         }
         // Each face listed as its tet lists it has the cavity on its positive side, where
-        // its ideal point is.
-        let inward = faces;
-        let Some(p) = self.target(&inward, u32::MAX, Smoothing::Optimal) else {
+        // its ideal point is. Candidates: the mean of the ideal points, then each face's
+        // own ideal point, then the centroid of the cavity's vertices; the best wins.
+        let mut candidates: Vec<Point> = Vec::with_capacity(faces.len() + 2);
+        candidates.extend(self.target(&faces, u32::MAX, Smoothing::Optimal));
+        for f in &faces {
+            candidates.extend(self.target(&[*f], u32::MAX, Smoothing::Optimal));
+        }
+        let corners: Vec<Point> = faces.iter().flatten().map(|&x| self.l.p(x)).collect();
+        candidates.push(corners.iter().sum::<Point>() / corners.len().max(1) as f64);
+        let before = self.worst(cavity);
+        let new: Vec<[u32; 4]> = faces.iter().map(|f| [f[0], f[1], f[2], u32::MAX]).collect();
+        let score = |p: Point| {
+            let pts = |t: &[u32; 4]| t.map(|x| if x == u32::MAX { p } else { self.l.p(x) });
+            if new.iter().any(|t| signed_volume(&pts(t)) <= 0.0) {
+                return f64::INFINITY;
+            }
+            new.iter().map(|t| q_k(&pts(t))).fold(1.0, f64::max)
+        };
+        let Some((after, p)) = candidates
+            .into_iter()
+            .map(|p| (score(p), p))
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+        else {
             return false;
         };
-        let before = self.worst(cavity);
-        let new: Vec<[u32; 4]> = inward
-            .iter()
-            .map(|f| [f[0], f[1], f[2], u32::MAX])
-            .collect();
-        let pts = |t: &[u32; 4]| t.map(|x| if x == u32::MAX { p } else { self.l.p(x) });
-        let after = new.iter().map(|t| q_k(&pts(t))).fold(1.0, f64::max);
-        if after >= before || new.iter().any(|t| signed_volume(&pts(t)) <= 0.0) {
+        if after >= before {
             return false;
         }
         let x = self.l.mesh.push_vertex(p).0;
