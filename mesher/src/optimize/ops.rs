@@ -227,12 +227,21 @@ impl Ops {
                 region.push(u);
             }
         }
-        for cavity in [&region[..], &region[..1]] {
-            if self.cone_new_point(cavity, r) {
-                return true;
+        let mut cavities = vec![region.clone(), vec![t]];
+        // The rings of its free edges: a flat tet on a flat part of the boundary (two
+        // constrained faces) is lifted by a point above its free edge.
+        for (i, j) in [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)] {
+            if self.locks.edge(v[i], v[j]) {
+                continue;
+            }
+            if let Some(ring) = self.l.ring(v[i], v[j], &mut self.scratch) {
+                let tets: Vec<u32> = ring.iter().map(|x| x.0).collect();
+                if tets.iter().all(|&u| self.region_of(u) == r) {
+                    cavities.push(tets);
+                }
             }
         }
-        false
+        cavities.iter().any(|c| self.cone_new_point(c, r))
     }
 
     /// Replaces `cavity` by the cone from a new point at the mean of the ideal points
