@@ -17,5 +17,11 @@ pub mod tetmesh;
 pub mod volume;
 
 pub use geom::Point;
+
+/// Hash map and set with a fast hasher without a random seed (rustc's Fx hash), so that
+/// no result can depend on a per-process seed.
+pub(crate) type FastMap<K, V> = rustc_hash::FxHashMap<K, V>;
+/// See [`FastMap`].
+pub(crate) type FastSet<K> = rustc_hash::FxHashSet<K>;
 pub use surface::Surface;
 pub use volume::VolumeMesh;

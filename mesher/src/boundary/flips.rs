@@ -11,7 +11,7 @@
 use super::local::{Local, Refused};
 use crate::geom::Point;
 use crate::tetmesh::{FaceRef, FACE_VERTICES};
-use std::collections::HashSet;
+use crate::FastSet as HashSet;
 
 /// Largest ring an edge removal tries (the dynamic program is cubic in it).
 pub(crate) const MAX_RING: usize = 16;

@@ -11,7 +11,7 @@
 use crate::geom::predicates::{orient3d, Orientation};
 use crate::geom::Point;
 use crate::tetmesh::{FaceRef, TetId, TetMesh, VertexId, FACE_VERTICES};
-use std::collections::HashMap;
+use crate::FastMap as HashMap;
 
 pub(crate) const GHOST: u32 = VertexId::GHOST.0;
 
@@ -365,7 +365,7 @@ impl Local {
         }
         // Outer faces of the old region, keyed by sorted vertices; the value is the
         // outside neighbour and the orientation as listed by the inner (old) tet.
-        let mut outer: HashMap<[u32; 3], (FaceRef, bool, bool)> = HashMap::new();
+        let mut outer: HashMap<[u32; 3], (FaceRef, bool, bool)> = HashMap::default();
         for &t in old {
             let v = self.tet(t);
             let adj = self.adj(t);
@@ -382,7 +382,7 @@ impl Local {
             }
         }
         // Inner faces of the new set: must pair with opposite orientation.
-        let mut inner: HashMap<[u32; 3], (usize, usize, bool)> = HashMap::new();
+        let mut inner: HashMap<[u32; 3], (usize, usize, bool)> = HashMap::default();
         let mut links: Vec<(usize, usize, Link)> = Vec::with_capacity(new.len() * 4);
         for (k, t) in new.iter().enumerate() {
             for (i, fv) in FACE_VERTICES.iter().enumerate() {

@@ -19,7 +19,7 @@ use super::local::Local;
 use crate::geom::predicates::Orientation;
 use crate::geom::Point;
 use crate::tetmesh::FACE_VERTICES;
-use std::collections::HashMap;
+use crate::{FastMap as HashMap, FastSet};
 
 /// Largest set of tets a single search visits.
 const MAX_MET: usize = 4096;
@@ -674,7 +674,7 @@ impl Recovery {
         let mut edges: Vec<(u32, u32)> = Vec::new();
         let mut tets: Vec<u32> = Vec::new();
         // Side of the triangle's plane per vertex, computed once.
-        let mut side: HashMap<u32, Orientation> = HashMap::new();
+        let mut side: HashMap<u32, Orientation> = HashMap::default();
         while let Some(t) = todo.pop() {
             if seen.len() > MAX_MET {
                 return None;
@@ -730,20 +730,21 @@ impl Recovery {
         if with_star {
             self.l.star(apex, &mut region);
         }
-        let mut inside: std::collections::HashSet<u32> = region.iter().copied().collect();
+        let mut inside: FastSet<u32> = region.iter().copied().collect();
         for &t in seed {
             if inside.insert(t) {
                 region.push(t);
             }
         }
-        let mut new: Vec<[u32; 4]> = Vec::new();
+        // Grow: only the faces of the tets added last need a look (a face seen from the
+        // apex stays seen; it stops being a boundary face only if its far side joins).
+        let mut frontier = region.clone();
         for _ in 0..MAX_GROW {
-            if region.len() > MAX_CONE || region.iter().any(|&t| self.l.is_ghost(t)) {
+            if region.len() > MAX_CONE || frontier.iter().any(|&t| self.l.is_ghost(t)) {
                 return false;
             }
-            new.clear();
             let mut grow = Vec::new();
-            for &t in &region {
+            for &t in &frontier {
                 let v = self.l.tet(t);
                 let adj = self.l.adj(t);
                 for i in 0..4 {
@@ -752,24 +753,40 @@ impl Recovery {
                         continue;
                     }
                     let f = FACE_VERTICES[i].map(|k| v[k]);
-                    if f.contains(&apex) {
+                    if f.contains(&apex)
+                        || self.l.orient(f[0], f[1], f[2], apex) == Orientation::Positive
+                    {
                         continue;
                     }
-                    if self.l.orient(f[0], f[1], f[2], apex) == Orientation::Positive {
-                        new.push([f[0], f[1], f[2], apex]);
-                    } else if self.locks.face(f) || self.l.is_ghost(u) {
+                    if self.locks.face(f) || self.l.is_ghost(u) {
                         return false;
-                    } else {
-                        grow.push(u);
                     }
+                    grow.push(u);
                 }
             }
             if grow.is_empty() {
                 break;
             }
+            frontier.clear();
             for u in grow {
                 if inside.insert(u) {
                     region.push(u);
+                    frontier.push(u);
+                }
+            }
+        }
+        if region.len() > MAX_CONE {
+            return false;
+        }
+        let mut new: Vec<[u32; 4]> = Vec::new();
+        for &t in &region {
+            let v = self.l.tet(t);
+            let adj = self.l.adj(t);
+            for i in 0..4 {
+                let u = crate::tetmesh::FaceRef::from_raw(adj[i]).tet().0;
+                let f = FACE_VERTICES[i].map(|k| v[k]);
+                if !inside.contains(&u) && !f.contains(&apex) {
+                    new.push([f[0], f[1], f[2], apex]);
                 }
             }
         }
@@ -777,7 +794,7 @@ impl Recovery {
             return false;
         }
         // Every vertex of the region must stay: the apex or on a boundary face.
-        let mut on_boundary: std::collections::HashSet<u32> =
+        let mut on_boundary: FastSet<u32> =
             new.iter().flat_map(|t| t[..3].iter().copied()).collect();
         on_boundary.insert(apex);
         if !with_star {
