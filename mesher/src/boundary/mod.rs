@@ -368,7 +368,7 @@ fn suppress(rec: &mut Recovery, steiner: &mut Vec<VertexId>, report: &mut Bounda
     let before = steiner.len();
     for _ in 0..4 {
         let n = steiner.len();
-        steiner.retain(|v| !rec.remove_vertex(v.0));
+        steiner.retain(|v| !rec.remove_steiner(v.0));
         if steiner.len() == n {
             break;
         }

@@ -103,7 +103,7 @@ pub(crate) struct Recovery {
     pub steiner: Vec<u32>,
     /// Whether Steiner points may be inserted (a second phase, after flips alone).
     pub allow_steiner: bool,
-    scratch: Vec<u32>,
+    pub(super) scratch: Vec<u32>,
     star: Vec<u32>,
 }
 

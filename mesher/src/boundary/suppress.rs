@@ -11,7 +11,12 @@
 //!   kernel, an interior Steiner point (outside the domain, on the outer side, it
 //!   disappears with the outside). The surface is then unsplit there.
 
+use super::flips::{remove_edge, Choice};
+use super::local::GHOST;
 use super::recover::Recovery;
+
+/// Edge removals at a Steiner point before its removal is given up.
+const MAX_DEGREE_FLIPS: usize = 8;
 use crate::geom::predicates::{orient3d, Orientation};
 use crate::geom::Point;
 use crate::tetmesh::{FaceRef, FACE_VERTICES};
@@ -47,6 +52,49 @@ impl Recovery {
                 return true;
             }
         }
+        false
+    }
+
+    /// Removes the interior Steiner point `s`: the cone from a neighbour, else edge
+    /// removals at `s` (each lowers its degree) until a cone works; bounded. The flips
+    /// made on a failed attempt are undone.
+    pub fn remove_steiner(&mut self, s: u32) -> bool {
+        if self.remove_vertex(s) {
+            return true;
+        }
+        let mark = self.l.mark();
+        for _ in 0..MAX_DEGREE_FLIPS {
+            let mut star = Vec::new();
+            self.l.star(s, &mut star);
+            let mut nbrs: Vec<u32> = star
+                .iter()
+                .flat_map(|&t| self.l.tet(t))
+                .filter(|&x| x != s && x != GHOST)
+                .collect();
+            nbrs.sort_unstable();
+            nbrs.dedup();
+            let removed = nbrs.into_iter().any(|x| {
+                remove_edge(
+                    &mut self.l,
+                    &self.locks,
+                    s,
+                    x,
+                    Choice::Best,
+                    &mut self.scratch,
+                    &mut self.flips,
+                )
+                .is_ok()
+            });
+            if !removed {
+                break;
+            }
+            if self.remove_vertex(s) {
+                self.l.forget();
+                return true;
+            }
+        }
+        self.l.undo(mark);
+        self.l.forget();
         false
     }
 
