@@ -607,18 +607,23 @@ impl Recovery {
                     Err(s) => return Err(s),
                 }
             }
-            if !progressed && !self.face_full_search(tri) {
-                let seed = self.crossing_tets(tri).unwrap_or_default();
-                let done = (0..3).any(|k| {
-                    let others = [tri[(k + 1) % 3], tri[(k + 2) % 3]];
-                    self.cone(tri[k], &seed, &others)
-                });
-                self.l.forget();
-                return if done && self.has_face(tri[0], tri[1], tri[2]) {
-                    Ok(())
-                } else {
-                    Err(Stuck::NoFlip)
-                };
+            if progressed {
+                continue;
+            }
+            // A cone from a corner of the triangle over the crossing tets is one
+            // operation; the full search (quadratic in the crossing edges: big faces
+            // such as a bounding box's are crossed by hundreds) comes after it.
+            let seed = self.crossing_tets(tri).unwrap_or_default();
+            let coned = (0..3).any(|k| {
+                let others = [tri[(k + 1) % 3], tri[(k + 2) % 3]];
+                self.cone(tri[k], &seed, &others)
+            });
+            self.l.forget();
+            if coned && self.has_face(tri[0], tri[1], tri[2]) {
+                return Ok(());
+            }
+            if !self.face_full_search(tri) {
+                return Err(Stuck::NoFlip);
             }
         }
         self.l.forget();
