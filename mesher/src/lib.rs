@@ -8,13 +8,17 @@
 
 pub mod boundary;
 pub mod delaunay;
+pub mod front;
 pub mod geom;
 pub mod io;
+pub mod mesh;
 pub mod quality;
+pub mod sizing;
 pub mod surface;
 pub mod tetmesh;
 pub mod volume;
 
 pub use geom::Point;
+pub use mesh::{mesh, MeshError, Meshed, Params, Report, SizeSpec};
 pub use surface::Surface;
 pub use volume::VolumeMesh;

@@ -21,6 +21,9 @@ use crate::geom::Point;
 use crate::tetmesh::{FaceRef, TetId, TetMesh, VertexId, FACE_VERTICES};
 use std::collections::HashMap;
 
+mod constrained;
+pub use constrained::{Constraints, Rejection};
+
 const GHOST: u32 = VertexId::GHOST.0;
 /// Local ids available in the pairing matrix (id 0 is the ghost vertex).
 const LOCAL_IDS: usize = 64;
@@ -86,6 +89,13 @@ pub struct Kernel {
     locals: Vec<[u8; 4]>,
     pairs: Vec<u32>,
     big_pairs: HashMap<(u32, u32), FaceRef>,
+    /// Tets refused by a constrained cavity (marks to clear).
+    touched: Vec<u32>,
+    /// Mask bits of the outer faces of a constrained cavity.
+    outer_bits: Vec<u8>,
+    /// Per-vertex stamps of the constrained cavity checks, and their epoch.
+    vstamp: Vec<u32>,
+    epoch: u32,
     rng: u64,
     last: u32,
     /// Static filter for the box every vertex lies in ([`StaticFilter::none`] when
