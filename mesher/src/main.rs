@@ -124,6 +124,9 @@ struct MeshArgs {
     /// Filtration distance, normalised (paper §5.2's delta_f).
     #[arg(long, default_value_t = mesher::front::FrontParams::default().delta_f)]
     delta_f: f64,
+    /// Smallest normalised distance from a field point to an existing vertex.
+    #[arg(long, default_value_t = mesher::front::FrontParams::default().delta_v)]
+    delta_v: f64,
     /// Bound on the front iterations.
     #[arg(long, default_value_t = mesher::front::FrontParams::default().max_iterations)]
     max_iterations: usize,

@@ -20,6 +20,7 @@ pub fn mesh(args: &MeshArgs) -> Result<ExitCode> {
     params.front.max_iterations = args.max_iterations;
     params.front.delta = args.delta;
     params.front.delta_f = args.delta_f;
+    params.front.delta_v = args.delta_v;
     params.front.point.mode = match args.length {
         Length::Endpoints => LengthMode::EndPoints,
         Length::Piecewise => LengthMode::Piecewise,

@@ -169,6 +169,7 @@ fn remedial_rule_accepts_survivors() {
         let params = Params {
             front: FrontParams {
                 delta_f: 1e3,
+                delta_v: 1e3,
                 remedial,
                 ..FrontParams::default()
             },

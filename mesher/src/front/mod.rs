@@ -52,6 +52,10 @@ pub struct FrontParams {
     pub delta: f64,
     /// Filtration distance (normalised).
     pub delta_f: f64,
+    /// Smallest normalised distance from a field point to an existing vertex (the
+    /// vertices of `K2` and of the cavity); NOTES.md §5's "too close to existing
+    /// vertices", default `delta_f`.
+    pub delta_v: f64,
     /// The optimal point's relaxation and the length mode.
     pub point: PointParams,
     /// Bound on the iterations.
@@ -65,6 +69,7 @@ impl Default for FrontParams {
         FrontParams {
             delta: std::f64::consts::SQRT_2,
             delta_f: std::f64::consts::FRAC_1_SQRT_2,
+            delta_v: std::f64::consts::FRAC_1_SQRT_2,
             point: PointParams::default(),
             max_iterations: 60,
             remedial: Remedial::default(),
@@ -185,9 +190,10 @@ pub fn advance(
         }
         let cands = propose(fm, field, params, &faces);
         rec.seconds_propose = t0.elapsed().as_secs_f64();
-        // Hilbert order: neighbouring insertions touch neighbouring tets (cache, walks).
+        // BRIO order (random rounds, Hilbert inside each): the first big cavities are
+        // broken up early, and neighbouring insertions touch neighbouring tets.
         let pts: Vec<Point> = cands.iter().map(|c| c.p).collect();
-        let cands: Vec<Candidate> = crate::delaunay::sort::hilbert_order(&pts)
+        let cands: Vec<Candidate> = crate::delaunay::sort::brio_order(&pts, 0x5EED ^ it as u64)
             .into_iter()
             .map(|i| cands[i as usize])
             .collect();
@@ -298,7 +304,7 @@ fn filtrate(fm: &FieldMesh, params: &FrontParams, cands: &[Candidate]) -> Vec<Ca
         let v = fm.mesh.raw_tet(c.k2);
         let near_vertex = v.iter().any(|&x| {
             let (q, hq) = (fm.mesh.points()[x as usize], fm.h[x as usize]);
-            normalized_length(c.p.distance(q), c.h, hq) < params.delta_f
+            normalized_length(c.p.distance(q), c.h, hq) < params.delta_v
         });
         if !near_vertex && grid.try_keep(c.p, c.h) {
             out.push(*c);
@@ -326,7 +332,7 @@ fn insert(
     }
     let points = fm.mesh.points();
     let close = kernel.cavity_vertices().any(|v| {
-        normalized_length(c.p.distance(points[v.index()]), c.h, fm.h[v.index()]) < params.delta_f
+        normalized_length(c.p.distance(points[v.index()]), c.h, fm.h[v.index()]) < params.delta_v
     });
     if close {
         return Ok(Err(3));
