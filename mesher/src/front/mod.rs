@@ -190,16 +190,14 @@ pub fn advance(
         }
         let cands = propose(fm, field, params, &faces);
         rec.seconds_propose = t0.elapsed().as_secs_f64();
-        // BRIO order (random rounds, Hilbert inside each): the first big cavities are
-        // broken up early, and neighbouring insertions touch neighbouring tets.
-        let pts: Vec<Point> = cands.iter().map(|c| c.p).collect();
-        let cands: Vec<Candidate> = crate::delaunay::sort::brio_order(&pts, 0x5EED ^ it as u64)
-            .into_iter()
-            .map(|i| cands[i as usize])
-            .collect();
         rec.proposed = cands.len();
-        let kept = filtrate(fm, params, &cands);
+        // Filtration along a Hilbert curve (neighbours in turn: a regular packing),
+        // insertion in BRIO order (random rounds, Hilbert inside each): the first big
+        // cavities are broken up early, and neighbouring insertions touch neighbouring
+        // tets.
+        let kept = filtrate(fm, params, &reorder(&cands, None));
         rec.filtered = cands.len() - kept.len();
+        let kept = reorder(&kept, Some(0x5EED ^ it as u64));
         for c in kept {
             match insert(&mut kernel, fm, params, c)? {
                 Ok(()) => {
@@ -230,6 +228,16 @@ pub fn advance(
     report.cavity_tets = kernel.stats.cavity_tets;
     report.walk_steps = kernel.stats.walk_steps;
     Ok(report)
+}
+
+/// The candidates in Hilbert order (`seed` None) or BRIO order.
+fn reorder(cands: &[Candidate], seed: Option<u64>) -> Vec<Candidate> {
+    let pts: Vec<Point> = cands.iter().map(|c| c.p).collect();
+    let order = match seed {
+        None => crate::delaunay::sort::hilbert_order(&pts),
+        Some(s) => crate::delaunay::sort::brio_order(&pts, s),
+    };
+    order.into_iter().map(|i| cands[i as usize]).collect()
 }
 
 fn grow(accept: &mut Vec<bool>, born: &mut Vec<u32>, tried: &mut Vec<u32>, n: usize) {
