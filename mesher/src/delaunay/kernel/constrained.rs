@@ -339,3 +339,103 @@ impl Kernel {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::delaunay::{triangulate, DelaunayOptions};
+
+    /// A Delaunay mesh of a jittered 4x4x4 grid, every finite tet in region 1.
+    fn grid() -> (TetMesh, Constraints) {
+        let mut pts = Vec::new();
+        for i in 0..4 {
+            for j in 0..4 {
+                for k in 0..4 {
+                    let jit = ((i * 7 + j * 13 + k * 29) % 11) as f64 * 1e-3;
+                    pts.push(Point::new(i as f64, j as f64, k as f64) + jit);
+                }
+            }
+        }
+        let mesh = triangulate(&pts, &DelaunayOptions::default()).unwrap().mesh;
+        let n = mesh.num_slots();
+        let region = (0..n as u32)
+            .map(|t| u32::from(mesh.is_alive(TetId(t)) && !mesh.is_ghost(TetId(t))))
+            .collect();
+        let cons = Constraints {
+            face_mask: vec![0; n],
+            region,
+        };
+        (mesh, cons)
+    }
+
+    /// The constrained triangles (sorted vertex ids), from the masks of live tets.
+    fn constrained_faces(mesh: &TetMesh, cons: &Constraints) -> Vec<[u32; 3]> {
+        let mut out = Vec::new();
+        for t in mesh.tets() {
+            let v = mesh.raw_tet(t.0);
+            for (i, f) in FACE_VERTICES.iter().enumerate() {
+                if cons.is_constrained(t.0, i) {
+                    let mut k = [v[f[0]], v[f[1]], v[f[2]]];
+                    k.sort_unstable();
+                    out.push(k);
+                }
+            }
+        }
+        out.sort_unstable();
+        out
+    }
+
+    #[test]
+    fn a_fully_constrained_tet_is_split_alone() {
+        let (mut mesh, mut cons) = grid();
+        let t = mesh.finite_tets().nth(10).unwrap();
+        // Constrain the four faces of t on both sides.
+        cons.face_mask[t.index()] = 0b1111;
+        for i in 0..4 {
+            let f = mesh.neighbor(t, i);
+            cons.face_mask[f.tet().index()] |= 1 << f.facet();
+        }
+        let before = constrained_faces(&mesh, &cons);
+        let q = mesh.tet_points(t);
+        let p = (q[0] + q[1] + q[2] + q[3]) / 4.0;
+        let mut k = Kernel::new();
+        k.constrained_cavity(&mesh, &cons, p, Some(t)).unwrap();
+        assert_eq!(k.cavity_tets(), &[t.0]);
+        k.commit_cavity(&mut mesh, &mut cons, p).unwrap();
+        assert_eq!(k.new_tets().len(), 4);
+        mesh.validate(false).unwrap();
+        // Each constrained face is listed from both sides, before and after.
+        assert_eq!(constrained_faces(&mesh, &cons), before);
+        assert!(k.new_tets().iter().all(|&n| cons.region[n as usize] == 1));
+    }
+
+    #[test]
+    fn points_outside_or_on_a_vertex_are_rejected() {
+        let (mesh, cons) = grid();
+        let mut k = Kernel::new();
+        let out = k.constrained_cavity(&mesh, &cons, Point::splat(10.0), None);
+        assert_eq!(out, Err(Rejection::Outside));
+        let v = mesh.point(VertexId(5));
+        let on = k.constrained_cavity(&mesh, &cons, v, None);
+        assert_eq!(on, Err(Rejection::OnVertex));
+    }
+
+    #[test]
+    fn many_insertions_keep_the_mesh_valid() {
+        let (mut mesh, mut cons) = grid();
+        let mut k = Kernel::new();
+        let mut inserted = 0;
+        for i in 0..200u32 {
+            let f = |s: u32| ((i.wrapping_mul(s) % 997) as f64 / 997.0) * 2.8 + 0.1;
+            let p = Point::new(f(31), f(57), f(83));
+            if k.constrained_cavity(&mesh, &cons, p, None).is_ok() {
+                k.commit_cavity(&mut mesh, &mut cons, p).unwrap();
+                inserted += 1;
+            }
+        }
+        assert!(inserted > 100, "{inserted}");
+        mesh.validate(false).unwrap();
+        // Without constraints the result is Delaunay.
+        mesh.validate(true).unwrap();
+    }
+}
