@@ -13,43 +13,7 @@ use std::process::ExitCode;
 pub fn mesh(args: &MeshArgs) -> Result<ExitCode> {
     let read = mesher::io::read_surface(&args.surface)?;
     let surface = read.surface;
-    let mut params = Params {
-        optimize: !args.no_optimize,
-        ..Params::default()
-    };
-    params.front.max_iterations = args.max_iterations;
-    params.front.delta = args.delta;
-    params.front.delta_f = args.delta_f;
-    params.front.delta_v = args.delta_v;
-    params.front.point.mode = match args.length {
-        Length::Endpoints => LengthMode::EndPoints,
-        Length::Piecewise => LengthMode::Piecewise,
-    };
-    params.front.remedial = match args.remedial {
-        RemedialArg::Front => Remedial::Front,
-        RemedialArg::All => Remedial::All,
-    };
-    if let Some(h) = args.size {
-        params.size = SizeSpec::Constant(h);
-    } else if let Some(bg) = &args.size_map {
-        let mesh = mesher::io::read_volume(bg)
-            .with_context(|| format!("reading the size map {}", bg.display()))?;
-        let sizes = match &args.size_sol {
-            Some(sol) => {
-                let text = std::fs::read_to_string(sol)
-                    .with_context(|| format!("reading {}", sol.display()))?;
-                mesher::io::medit::parse_sol(
-                    &sol.display().to_string(),
-                    &text,
-                    mesh.vertices.len(),
-                )?
-            }
-            None => mesh.vertex_sizes.clone().with_context(|| {
-                format!("{} has no .sol beside it; give --size-sol", bg.display())
-            })?,
-        };
-        params.size = SizeSpec::Background { mesh, sizes };
-    }
+    let params = params_from(args)?;
     let bar = ProgressBar::new(params.front.max_iterations as u64);
     bar.set_style(
         ProgressStyle::with_template("front {pos:>2}/{len} {bar:30} {msg}")
@@ -109,4 +73,46 @@ pub fn mesh(args: &MeshArgs) -> Result<ExitCode> {
         report.time_total
     );
     Ok(ExitCode::SUCCESS)
+}
+
+/// The library parameters from the command line.
+fn params_from(args: &MeshArgs) -> Result<Params> {
+    let mut params = Params {
+        optimize: !args.no_optimize,
+        ..Params::default()
+    };
+    params.front.max_iterations = args.max_iterations;
+    params.front.delta = args.delta;
+    params.front.delta_f = args.delta_f;
+    params.front.delta_v = args.delta_v;
+    params.front.point.mode = match args.length {
+        Length::Endpoints => LengthMode::EndPoints,
+        Length::Piecewise => LengthMode::Piecewise,
+    };
+    params.front.remedial = match args.remedial {
+        RemedialArg::Front => Remedial::Front,
+        RemedialArg::All => Remedial::All,
+    };
+    if let Some(h) = args.size {
+        params.size = SizeSpec::Constant(h);
+    } else if let Some(bg) = &args.size_map {
+        let mesh = mesher::io::read_volume(bg)
+            .with_context(|| format!("reading the size map {}", bg.display()))?;
+        let sizes = match &args.size_sol {
+            Some(sol) => {
+                let text = std::fs::read_to_string(sol)
+                    .with_context(|| format!("reading {}", sol.display()))?;
+                mesher::io::medit::parse_sol(
+                    &sol.display().to_string(),
+                    &text,
+                    mesh.vertices.len(),
+                )?
+            }
+            None => mesh.vertex_sizes.clone().with_context(|| {
+                format!("{} has no .sol beside it; give --size-sol", bg.display())
+            })?,
+        };
+        params.size = SizeSpec::Background { mesh, sizes };
+    }
+    Ok(params)
 }
