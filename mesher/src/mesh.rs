@@ -159,7 +159,13 @@ fn field_mesh(
     cons.resize(n);
     for t in mesh.tets() {
         let v = mesh.raw_tet(t.0);
+        let adj = mesh.raw_adj(t.0);
         for (i, f) in FACE_VERTICES.iter().enumerate() {
+            // The domain's regions are flood-filled up to the constrained faces, so a
+            // face with the same region on both sides is not one: no lookup.
+            if cons.region[t.index()] == cons.region[(adj[i] >> 2) as usize] {
+                continue;
+            }
             let mut key = [v[f[0]], v[f[1]], v[f[2]]];
             key.sort_unstable();
             if constrained.contains_key(&key) {
