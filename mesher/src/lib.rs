@@ -8,10 +8,13 @@
 
 pub mod boundary;
 pub mod delaunay;
+pub mod front;
 pub mod geom;
 pub mod io;
 pub mod optimize;
+pub mod mesh;
 pub mod quality;
+pub mod sizing;
 pub mod surface;
 pub mod tetmesh;
 pub mod volume;
@@ -23,5 +26,6 @@ pub use geom::Point;
 pub(crate) type FastMap<K, V> = rustc_hash::FxHashMap<K, V>;
 /// See [`FastMap`].
 pub(crate) type FastSet<K> = rustc_hash::FxHashSet<K>;
+pub use mesh::{mesh, MeshError, Meshed, Params, Report, SizeSpec};
 pub use surface::Surface;
 pub use volume::VolumeMesh;

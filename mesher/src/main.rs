@@ -3,6 +3,8 @@
 //! - `mesher delaunay INPUT -o OUT`: Delaunay tetrahedralisation of the vertices of a
 //!   surface or of a TetGen `.node` point file (paper §3).
 //! - `mesher boundary SURFACE -o OUT`: the boundary mesh T(S,F) (paper §4).
+//! - `mesher mesh SURFACE -o OUT`: the volume mesh: boundary mesh, control space and
+//!   field points by the advancing front (paper §2-§5), with a progress bar.
 //! - `mesher check SURFACE`: the defects of a surface; exit code 0 clean, 1 defects.
 //! - `mesher generate KIND -o OUT`: deterministic test surfaces.
 
@@ -13,6 +15,9 @@ use mesher::surface::generate;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
+
+mod mesh_cmd;
+use mesh_cmd::mesh;
 
 #[derive(Parser)]
 #[command(
@@ -62,6 +67,8 @@ enum Command {
         #[arg(long)]
         validate: bool,
     },
+    /// The volume mesh of the domain bounded by a closed surface (paper §2-§5).
+    Mesh(MeshArgs),
     /// Check a surface: open, non-manifold, self-intersecting, degenerate.
     Check {
         /// The surface (.off, .obj, .stl, .mesh).
@@ -82,6 +89,65 @@ enum Command {
         #[arg(short, long)]
         output: PathBuf,
     },
+}
+
+#[derive(clap::Args)]
+struct MeshArgs {
+    /// The closed surface (.off, .obj, .stl, .mesh).
+    surface: PathBuf,
+    /// Output mesh (.mesh, .vtu, .msh, .node).
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// A constant size instead of the boundary-derived control space.
+    #[arg(long, conflicts_with = "size_map")]
+    size: Option<f64>,
+    /// A background mesh (.mesh) whose vertices carry sizes (from --size-sol, else the
+    /// .sol beside it).
+    #[arg(long)]
+    size_map: Option<PathBuf>,
+    /// The Medit .sol with one size per vertex of --size-map.
+    #[arg(long, requires = "size_map")]
+    size_sol: Option<PathBuf>,
+    /// Skip the optimisation (accepted; optimisation is not implemented yet).
+    #[arg(long)]
+    no_optimize: bool,
+    /// Normalised edge lengths: from the end-point sizes, or piecewise along the
+    /// background tets.
+    #[arg(long, value_enum, default_value_t = Length::Endpoints)]
+    length: Length,
+    /// Which surviving unacceptable tets the remedial rule accepts.
+    #[arg(long, value_enum, default_value_t = RemedialArg::Front)]
+    remedial: RemedialArg,
+    /// Acceptance bound on normalised edge lengths (paper §5.2's delta).
+    #[arg(long, default_value_t = mesher::front::FrontParams::default().delta)]
+    delta: f64,
+    /// Filtration distance, normalised (paper §5.2's delta_f).
+    #[arg(long, default_value_t = mesher::front::FrontParams::default().delta_f)]
+    delta_f: f64,
+    /// Smallest normalised distance from a field point to an existing vertex.
+    #[arg(long, default_value_t = mesher::front::FrontParams::default().delta_v)]
+    delta_v: f64,
+    /// Bound on the front iterations.
+    #[arg(long, default_value_t = mesher::front::FrontParams::default().max_iterations)]
+    max_iterations: usize,
+    /// Write the report (with the per-iteration front series) as JSON to this file.
+    #[arg(long)]
+    stats: Option<PathBuf>,
+    /// Check every adjacency and orientation invariant afterwards.
+    #[arg(long)]
+    validate: bool,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum Length {
+    Endpoints,
+    Piecewise,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum RemedialArg {
+    Front,
+    All,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -132,6 +198,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             )
         }
         Command::Check { surface, json } => check(&surface, json),
+        Command::Mesh(args) => mesh(&args),
         Command::Boundary {
             surface,
             output,

@@ -20,6 +20,10 @@ use crate::geom::predicates::{orient3d, Orientation, Sphere, StaticFilter};
 use crate::geom::Point;
 use crate::tetmesh::{FaceRef, TetId, TetMesh, VertexId, FACE_VERTICES};
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+
+mod constrained;
+pub use constrained::{Constraints, Rejection};
 
 const GHOST: u32 = VertexId::GHOST.0;
 /// Local ids available in the pairing matrix (id 0 is the ghost vertex).
@@ -85,7 +89,14 @@ pub struct Kernel {
     new_tets: Vec<u32>,
     locals: Vec<[u8; 4]>,
     pairs: Vec<u32>,
-    big_pairs: HashMap<(u32, u32), FaceRef>,
+    big_pairs: HashMap<(u32, u32), FaceRef, BuildHasherDefault<EdgeHasher>>,
+    /// Tets refused by a constrained cavity (marks to clear).
+    touched: Vec<u32>,
+    /// Mask bits of the outer faces of a constrained cavity.
+    outer_bits: Vec<u8>,
+    /// Per-vertex stamps of the constrained cavity checks, and their epoch.
+    vstamp: Vec<u32>,
+    epoch: u32,
     rng: u64,
     last: u32,
     /// Static filter for the box every vertex lies in ([`StaticFilter::none`] when
@@ -390,6 +401,26 @@ impl Inserted {
         match self {
             Inserted::New(v) | Inserted::Duplicate(v) => v,
         }
+    }
+}
+
+/// A multiplicative hash for the directed-edge keys of [`Kernel::pair_by_map`] (only
+/// lookups and removals: no iteration order is ever used). Huge cavities, such as the
+/// first field points' in T(S,F), spent most of their pairing time in SipHash.
+#[derive(Default)]
+struct EdgeHasher(u64);
+
+impl Hasher for EdgeHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u32(b as u32);
+        }
+    }
+    fn write_u32(&mut self, x: u32) {
+        self.0 = (self.0.rotate_left(26) ^ x as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15);
     }
 }
 

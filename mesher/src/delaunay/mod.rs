@@ -10,7 +10,7 @@
 mod kernel;
 pub mod sort;
 
-pub use kernel::{Inserted, Kernel, KernelStats, Location};
+pub use kernel::{Constraints, Inserted, Kernel, KernelStats, Location, Rejection};
 
 use crate::geom::predicates::{orient2d, orient3d, Orientation};
 use crate::geom::Point;

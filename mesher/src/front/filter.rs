@@ -1,0 +1,156 @@
+//! Filtration of the field points (paper §5.2): a point `Q` is dropped when a point `P`
+//! already kept has `l(PQ) < delta_f` (NOTES.md §5, default `1/sqrt(2)`).
+//!
+//! The search goes through a uniform hash grid, never all pairs. Since `h` is linear
+//! along `PQ`, `l(PQ) >= |PQ| / max(h_P, h_Q)`, so a close pair is closer than
+//! `delta_f * max(h_Q, h_max)`, `h_max` the largest size of the candidates: a kept point
+//! is registered in its own cell, and a query looks at the cells within that radius.
+//! The cell size is `delta_f * h_max`, so a query looks at 27 cells; the span is
+//! clipped at [`MAX_SPAN`] cells per axis all the same.
+
+use crate::geom::Point;
+use crate::quality::length::normalized_length;
+use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+
+/// A multiplicative hash for cell keys (lookups only: no iteration order is used).
+#[derive(Default)]
+struct CellHasher(u64);
+
+impl Hasher for CellHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(b as u64);
+        }
+    }
+    fn write_i64(&mut self, x: i64) {
+        self.write_u64(x as u64);
+    }
+    fn write_u64(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+}
+
+type CellMap = HashMap<[i64; 3], Vec<u32>, BuildHasherDefault<CellHasher>>;
+
+/// Cells per axis on each side of a point's own cell, at most.
+pub const MAX_SPAN: i64 = 8;
+
+/// Uniform grid of the kept points.
+#[derive(Debug)]
+pub struct Grid {
+    cell: f64,
+    delta_f: f64,
+    cells: CellMap,
+    h_max: f64,
+    kept: Vec<(Point, f64)>,
+}
+
+impl Grid {
+    /// An empty grid for points of sizes at most `h_max`.
+    pub fn new(h_max: f64, delta_f: f64) -> Grid {
+        let cell = (h_max * delta_f).max(f64::MIN_POSITIVE);
+        Grid {
+            cell,
+            delta_f,
+            h_max,
+            cells: CellMap::default(),
+            kept: Vec::new(),
+        }
+    }
+
+    fn key(&self, x: f64) -> i64 {
+        let k = (x / self.cell).floor();
+        if k.is_finite() {
+            k.clamp(-1e15, 1e15) as i64
+        } else {
+            0
+        }
+    }
+
+    /// The cell range of the ball of radius `r` around `p`, clipped.
+    fn range(&self, p: Point, r: f64) -> [(i64, i64); 3] {
+        let span = ((r / self.cell).ceil() as i64).clamp(0, MAX_SPAN);
+        [p.x, p.y, p.z].map(|c| {
+            let k = self.key(c);
+            (k - span, k + span)
+        })
+    }
+
+    /// Keeps `p` (size `h`) unless a kept point is closer than `delta_f`; returns
+    /// whether it was kept.
+    pub fn try_keep(&mut self, p: Point, h: f64) -> bool {
+        let r = self.delta_f * h.max(self.h_max);
+        let rg = self.range(p, r);
+        for x in rg[0].0..=rg[0].1 {
+            for y in rg[1].0..=rg[1].1 {
+                for z in rg[2].0..=rg[2].1 {
+                    let Some(list) = self.cells.get(&[x, y, z]) else {
+                        continue;
+                    };
+                    for &k in list {
+                        let (q, hq) = self.kept[k as usize];
+                        if normalized_length(p.distance(q), h, hq) < self.delta_f {
+                            return false;
+                        }
+                    }
+                }
+            }
+        }
+        let id = self.kept.len() as u32;
+        self.kept.push((p, h));
+        let key = [p.x, p.y, p.z].map(|c| self.key(c));
+        self.cells.entry(key).or_default().push(id);
+        true
+    }
+
+    /// The points kept so far, in order.
+    pub fn kept(&self) -> &[(Point, f64)] {
+        &self.kept
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn no_kept_pair_is_closer_than_delta_f() {
+        // Pseudo-random points with sizes varying by a factor 4.
+        let mut s = 12345u64;
+        let mut rnd = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let delta_f = std::f64::consts::FRAC_1_SQRT_2;
+        let mut g = Grid::new(0.2, delta_f);
+        let mut all = Vec::new();
+        for _ in 0..3000 {
+            let p = Point::new(rnd(), rnd(), rnd());
+            let h = 0.05 + 0.15 * p.x;
+            all.push((p, h, g.try_keep(p, h)));
+        }
+        let kept = g.kept();
+        assert!(kept.len() > 50 && kept.len() < 3000);
+        for i in 0..kept.len() {
+            for j in i + 1..kept.len() {
+                let (p, hp) = kept[i];
+                let (q, hq) = kept[j];
+                assert!(normalized_length(p.distance(q), hp, hq) >= delta_f);
+            }
+        }
+        // Every dropped point has a kept point closer than delta_f.
+        for (p, h, k) in all {
+            if !k {
+                assert!(kept
+                    .iter()
+                    .any(|&(q, hq)| normalized_length(p.distance(q), h, hq) < delta_f));
+            }
+        }
+    }
+}

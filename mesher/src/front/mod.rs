@@ -1,0 +1,419 @@
+//! Field points by the advancing front coupled with the Delaunay kernel (paper §5):
+//! a loop of front identification, optimal points, filtration and constrained insertion
+//! until the front is empty.
+//!
+//! - Classification (§5.2): a tet is acceptable iff every edge has normalised length
+//!   `<= delta` (NOTES.md §5, default `sqrt(2)`); at the start the tets outside the
+//!   domain are acceptable and those inside are not, so the first front is the boundary.
+//! - Front: the faces between an acceptable and an unacceptable tet (a constrained face
+//!   of an unacceptable tet counts too: the other side belongs to another region).
+//! - One optimal point per front face ([`point`]), kept only if strictly inside the
+//!   circumsphere of the unacceptable tet `K2` (exact `insphere`), then filtered against
+//!   the kept points ([`filter`], `delta_f`) and the vertices of `K2`.
+//! - Insertion by the constrained kernel ([`crate::delaunay::Kernel::constrained_cavity`]):
+//!   the cavity never crosses the surface nor leaves the region; a point outside the
+//!   domain, whose cavity the correction empties, or that would be joined to a vertex
+//!   closer than `delta_f`, is dropped.
+//! - Remedial rule (§5.2): an unacceptable tet that survives an iteration becomes
+//!   acceptable ([`Remedial`] chooses which ones), which guarantees convergence; the loop
+//!   is also bounded by `max_iterations`.
+
+pub mod filter;
+pub mod point;
+
+use crate::delaunay::{Constraints, DelaunayError, Kernel, Rejection};
+use crate::geom::predicates::{insphere, Sphere};
+use crate::geom::Point;
+use crate::quality::length::normalized_length;
+use crate::quality::tet::TET_EDGES;
+use crate::sizing::{edge_length, LengthMode, SizeField};
+use crate::tetmesh::{TetId, TetMesh, FACE_VERTICES};
+use filter::Grid;
+use point::{optimal_point, PointParams};
+use rayon::prelude::*;
+use serde::Serialize;
+use std::time::Instant;
+use thiserror::Error;
+
+/// Which surviving unacceptable tets the remedial rule makes acceptable.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub enum Remedial {
+    /// Those that were behind a front face this iteration (a point was tried for them).
+    #[default]
+    Front,
+    /// All of them (the paper's literal `U_i ∩ U_{i+1}`).
+    All,
+}
+
+/// Parameters of the front (defaults: NOTES.md §5-§6).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrontParams {
+    /// Acceptance bound on normalised edge lengths.
+    pub delta: f64,
+    /// Filtration distance (normalised).
+    pub delta_f: f64,
+    /// Smallest normalised distance from a field point to an existing vertex (the
+    /// vertices of `K2` and of the cavity); NOTES.md §5's "too close to existing
+    /// vertices", default `delta_f`.
+    pub delta_v: f64,
+    /// The optimal point's relaxation and the length mode.
+    pub point: PointParams,
+    /// Bound on the iterations.
+    pub max_iterations: usize,
+    /// The remedial rule's scope.
+    pub remedial: Remedial,
+}
+
+impl Default for FrontParams {
+    fn default() -> Self {
+        FrontParams {
+            delta: std::f64::consts::SQRT_2,
+            delta_f: std::f64::consts::FRAC_1_SQRT_2,
+            delta_v: std::f64::consts::FRAC_1_SQRT_2,
+            point: PointParams::default(),
+            max_iterations: 60,
+            remedial: Remedial::default(),
+        }
+    }
+}
+
+impl FrontParams {
+    /// The normalised-length mode.
+    pub fn mode(&self) -> LengthMode {
+        self.point.mode
+    }
+}
+
+/// One iteration of the front (the paper's convergence curve).
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Iteration {
+    /// Front faces at the start.
+    pub front: usize,
+    /// Optimal points strictly inside the circumsphere of their `K2`.
+    pub proposed: usize,
+    /// Points dropped by the filtration (kept points and `K2`'s vertices).
+    pub filtered: usize,
+    /// Points dropped at insertion (outside, emptied cavity, too close to a vertex).
+    pub rejected: usize,
+    /// Points inserted.
+    pub inserted: usize,
+    /// Tets made acceptable by the remedial rule.
+    pub remedial: usize,
+    /// Tets in the domain at the end.
+    pub tets: usize,
+    /// Seconds spent in the iteration.
+    pub seconds: f64,
+    /// Of which: front identification and optimal points.
+    pub seconds_propose: f64,
+    /// Of which: filtration and insertion.
+    pub seconds_insert: f64,
+}
+
+/// The outcome of [`advance`].
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct FrontReport {
+    /// Per iteration.
+    pub iterations: Vec<Iteration>,
+    /// True when the front emptied within the bound.
+    pub converged: bool,
+    /// Points rejected at insertion, by reason: outside, emptied, not a ball, too close.
+    pub rejections: [usize; 4],
+    /// Tets removed by the cavities (all tried insertions).
+    pub cavity_tets: u64,
+    /// Tets visited by the location walks.
+    pub walk_steps: u64,
+}
+
+/// A fatal failure of the front (non-fatal outcomes are counted in the report).
+#[derive(Debug, Error)]
+pub enum FrontError {
+    /// The kernel ran out of tet ids.
+    #[error(transparent)]
+    Kernel(#[from] DelaunayError),
+}
+
+/// The mesh the front works on: tets with their constraints and regions, and the size
+/// at every vertex.
+#[derive(Clone, Debug)]
+pub struct FieldMesh {
+    /// The mesh (the whole box, ghosts included).
+    pub mesh: TetMesh,
+    /// Constrained faces and regions per tet slot.
+    pub cons: Constraints,
+    /// `h` at every vertex.
+    pub h: Vec<f64>,
+}
+
+/// A field point waiting for insertion.
+#[derive(Clone, Copy, Debug)]
+struct Candidate {
+    p: Point,
+    h: f64,
+    /// The unacceptable tet behind its face.
+    k2: u32,
+}
+
+/// Front faces handled per parallel task (fixed, so results do not depend on threads).
+const CHUNK: usize = 256;
+
+/// Runs the front to convergence (or `max_iterations`), calling `progress` after each
+/// iteration.
+pub fn advance(
+    fm: &mut FieldMesh,
+    field: &dyn SizeField,
+    params: &FrontParams,
+    progress: &mut dyn FnMut(&Iteration),
+) -> Result<FrontReport, FrontError> {
+    let slots = fm.mesh.num_slots();
+    fm.cons.resize(slots);
+    let mut accept: Vec<bool> = (0..slots).map(|t| fm.cons.region[t] == 0).collect();
+    let mut born = vec![0u32; slots];
+    let mut tried = vec![0u32; slots];
+    let mut kernel = Kernel::new();
+    if let Some(bb) = crate::geom::Aabb::of_points(fm.mesh.points()) {
+        kernel.set_bounds(bb.min, bb.max);
+    }
+    let mut report = FrontReport::default();
+    for it in 1..=params.max_iterations as u32 {
+        let t0 = Instant::now();
+        let faces = front_faces(fm, &accept);
+        if faces.is_empty() {
+            report.converged = true;
+            break;
+        }
+        let mut rec = Iteration {
+            front: faces.len(),
+            ..Iteration::default()
+        };
+        for &(t, _) in &faces {
+            tried[t as usize] = it;
+        }
+        let cands = propose(fm, field, params, &faces);
+        rec.seconds_propose = t0.elapsed().as_secs_f64();
+        rec.proposed = cands.len();
+        // Filtration along a Hilbert curve (neighbours in turn: a regular packing),
+        // insertion in BRIO order (random rounds, Hilbert inside each): the first big
+        // cavities are broken up early, and neighbouring insertions touch neighbouring
+        // tets.
+        let kept = filtrate(fm, params, &reorder(&cands, None));
+        rec.filtered = cands.len() - kept.len();
+        let kept = reorder(&kept, Some(0x5EED ^ it as u64));
+        for c in kept {
+            match insert(&mut kernel, fm, params, c)? {
+                Ok(()) => {
+                    rec.inserted += 1;
+                    grow(&mut accept, &mut born, &mut tried, fm.mesh.num_slots());
+                    for &t in kernel.new_tets() {
+                        born[t as usize] = it;
+                        accept[t as usize] = false;
+                    }
+                }
+                Err(r) => {
+                    rec.rejected += 1;
+                    report.rejections[r] += 1;
+                }
+            }
+        }
+        rec.seconds_insert = t0.elapsed().as_secs_f64() - rec.seconds_propose;
+        let (tets, remedial) = classify(fm, field, params, it, &born, &tried, &mut accept);
+        rec.tets = tets;
+        rec.remedial = remedial;
+        rec.seconds = t0.elapsed().as_secs_f64();
+        progress(&rec);
+        report.iterations.push(rec);
+    }
+    if !report.converged {
+        report.converged = front_faces(fm, &accept).is_empty();
+    }
+    report.cavity_tets = kernel.stats.cavity_tets;
+    report.walk_steps = kernel.stats.walk_steps;
+    Ok(report)
+}
+
+/// The candidates in Hilbert order (`seed` None) or BRIO order.
+fn reorder(cands: &[Candidate], seed: Option<u64>) -> Vec<Candidate> {
+    let pts: Vec<Point> = cands.iter().map(|c| c.p).collect();
+    let order = match seed {
+        None => crate::delaunay::sort::hilbert_order(&pts),
+        Some(s) => crate::delaunay::sort::brio_order(&pts, s),
+    };
+    order.into_iter().map(|i| cands[i as usize]).collect()
+}
+
+fn grow(accept: &mut Vec<bool>, born: &mut Vec<u32>, tried: &mut Vec<u32>, n: usize) {
+    if accept.len() < n {
+        accept.resize(n, false);
+        born.resize(n, 0);
+        tried.resize(n, 0);
+    }
+}
+
+/// The front faces `(K2, facet)`, in slot order.
+fn front_faces(fm: &FieldMesh, accept: &[bool]) -> Vec<(u32, u8)> {
+    let mut out = Vec::new();
+    for t in 0..fm.mesh.num_slots() as u32 {
+        if accept[t as usize] || fm.cons.region[t as usize] == 0 || !fm.mesh.is_alive(TetId(t)) {
+            continue;
+        }
+        let adj = fm.mesh.raw_adj(t);
+        for (i, &a) in adj.iter().enumerate() {
+            if accept[(a >> 2) as usize] || fm.cons.is_constrained(t, i) {
+                out.push((t, i as u8));
+            }
+        }
+    }
+    out
+}
+
+/// Optimal points of the front faces, kept when strictly inside `K2`'s circumsphere.
+fn propose(
+    fm: &FieldMesh,
+    field: &dyn SizeField,
+    params: &FrontParams,
+    faces: &[(u32, u8)],
+) -> Vec<Candidate> {
+    let chunks: Vec<Vec<Candidate>> = faces
+        .par_chunks(CHUNK)
+        .map(|chunk| {
+            let mut hint = 0u32;
+            let mut out = Vec::with_capacity(chunk.len());
+            for &(t, i) in chunk {
+                let v = fm.mesh.raw_tet(t);
+                let q = fm.mesh.tet_points(TetId(t));
+                let f = FACE_VERTICES[i as usize];
+                let tri = [q[f[0]], q[f[1]], q[f[2]]];
+                let h = [f[0], f[1], f[2]].map(|k| fm.h[v[k] as usize]);
+                // The face's orientation makes vertex i (inside K2) positive.
+                let n = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize_or_zero();
+                if n == Point::ZERO {
+                    continue;
+                }
+                let (p, hp) = optimal_point(tri, h, n, field, &params.point, &mut hint);
+                let ok = p.is_finite()
+                    && hp > 0.0
+                    && hp.is_finite()
+                    && insphere(q[0], q[1], q[2], q[3], p) == Sphere::Inside;
+                if ok {
+                    out.push(Candidate { p, h: hp, k2: t });
+                }
+            }
+            out
+        })
+        .collect();
+    chunks.into_iter().flatten().collect()
+}
+
+/// The candidates that survive the filtration, in order.
+fn filtrate(fm: &FieldMesh, params: &FrontParams, cands: &[Candidate]) -> Vec<Candidate> {
+    let h_max = cands.iter().map(|c| c.h).fold(0.0, f64::max);
+    let mut grid = Grid::new(h_max, params.delta_f);
+    let mut out = Vec::with_capacity(cands.len());
+    for c in cands {
+        let v = fm.mesh.raw_tet(c.k2);
+        let near_vertex = v.iter().any(|&x| {
+            let (q, hq) = (fm.mesh.points()[x as usize], fm.h[x as usize]);
+            normalized_length(c.p.distance(q), c.h, hq) < params.delta_v
+        });
+        if !near_vertex && grid.try_keep(c.p, c.h) {
+            out.push(*c);
+        }
+    }
+    out
+}
+
+/// Inserts one field point; the inner result says why it was dropped (an index into
+/// [`FrontReport::rejections`]).
+fn insert(
+    kernel: &mut Kernel,
+    fm: &mut FieldMesh,
+    params: &FrontParams,
+    c: Candidate,
+) -> Result<Result<(), usize>, FrontError> {
+    let hint = fm.mesh.is_alive(TetId(c.k2)).then_some(TetId(c.k2));
+    if let Err(r) = kernel.constrained_cavity(&fm.mesh, &fm.cons, c.p, hint) {
+        return Ok(Err(match r {
+            Rejection::Outside => 0,
+            Rejection::Emptied => 1,
+            Rejection::NotBall => 2,
+            Rejection::OnVertex => 3,
+        }));
+    }
+    let points = fm.mesh.points();
+    let close = kernel.cavity_vertices().any(|v| {
+        normalized_length(c.p.distance(points[v.index()]), c.h, fm.h[v.index()]) < params.delta_v
+    });
+    if close {
+        return Ok(Err(3));
+    }
+    kernel.commit_cavity(&mut fm.mesh, &mut fm.cons, c.p)?;
+    fm.h.push(c.h);
+    Ok(Ok(()))
+}
+
+/// Classifies the tets born in iteration `it` by their edges and applies the remedial
+/// rule to the unacceptable survivors; returns the domain's tet count and how many the
+/// remedial rule accepted.
+fn classify(
+    fm: &FieldMesh,
+    field: &dyn SizeField,
+    params: &FrontParams,
+    it: u32,
+    born: &[u32],
+    tried: &[u32],
+    accept: &mut [bool],
+) -> (usize, usize) {
+    let n = fm.mesh.num_slots();
+    let mesh = &fm.mesh;
+    let results: Vec<(u32, bool)> = (0..n as u32)
+        .collect::<Vec<_>>()
+        .par_chunks(4 * CHUNK)
+        .map(|chunk| {
+            let mut hint = 0u32;
+            let mut out = Vec::new();
+            for &t in chunk {
+                let tu = t as usize;
+                if accept[tu] || fm.cons.region[tu] == 0 || !mesh.is_alive(TetId(t)) {
+                    continue;
+                }
+                let ok = if born[tu] == it {
+                    acceptable(fm, field, params, t, &mut hint)
+                } else {
+                    params.remedial == Remedial::All || tried[tu] == it
+                };
+                out.push((t, ok));
+            }
+            out
+        })
+        .flatten()
+        .collect();
+    let mut remedial = 0;
+    for &(t, ok) in &results {
+        if ok {
+            if born[t as usize] != it {
+                remedial += 1;
+            }
+            accept[t as usize] = true;
+        }
+    }
+    let tets = (0..n as u32)
+        .filter(|&t| fm.cons.region[t as usize] != 0 && mesh.is_alive(TetId(t)))
+        .count();
+    (tets, remedial)
+}
+
+/// True when every edge of `t` has normalised length `<= delta`.
+fn acceptable(
+    fm: &FieldMesh,
+    field: &dyn SizeField,
+    params: &FrontParams,
+    t: u32,
+    hint: &mut u32,
+) -> bool {
+    let v = fm.mesh.raw_tet(t);
+    let pts = fm.mesh.points();
+    TET_EDGES.iter().all(|&[i, j]| {
+        let (a, b) = (v[i] as usize, v[j] as usize);
+        let l = edge_length(field, params.mode(), pts[a], pts[b], fm.h[a], fm.h[b], hint);
+        l <= params.delta
+    })
+}

@@ -1,0 +1,282 @@
+//! The whole mesher (paper §2): boundary mesh T(S,F) (§4), control space (§5.3.1),
+//! field points by the advancing front (§5); optimisation (§6) is a later stage.
+//!
+//! [`mesh`] takes a closed surface and [`Params`] and returns the [`Meshed`] domain
+//! (tets, regions, sizes) and a [`Report`] with the front's convergence series.
+
+use crate::boundary::{boundary_mesh, BoundaryError, BoundaryOptions, BoundaryReport};
+use crate::delaunay::Constraints;
+use crate::front::{advance, FieldMesh, FrontError, FrontParams, FrontReport, Iteration};
+use crate::geom::Point;
+use crate::quality::length::normalized_length;
+use crate::quality::summary::{unique_tet_edges, unique_triangle_edges};
+use crate::sizing::{Background, SizeField, SizingError};
+use crate::surface::Surface;
+use crate::tetmesh::{TetMesh, VertexId, FACE_VERTICES};
+use crate::volume::VolumeMesh;
+use serde::Serialize;
+use std::time::Instant;
+use thiserror::Error;
+
+/// Where the sizes come from.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub enum SizeSpec {
+    /// The paper's control space on T(S,F) (§5.3.1).
+    #[default]
+    Boundary,
+    /// One size everywhere.
+    Constant(f64),
+    /// A user background mesh with one size per vertex (§7).
+    Background {
+        /// The background mesh.
+        mesh: VolumeMesh,
+        /// Size per vertex of `mesh`.
+        sizes: Vec<f64>,
+    },
+}
+
+/// Parameters of [`mesh`].
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Params {
+    /// The boundary mesh.
+    pub boundary: BoundaryOptions,
+    /// The front.
+    pub front: FrontParams,
+    /// The size map.
+    pub size: SizeSpec,
+    /// Optimisation (paper §6): accepted, not implemented yet (a no-op).
+    pub optimize: bool,
+}
+
+/// Why no mesh was made.
+#[derive(Debug, Error)]
+pub enum MeshError {
+    /// The boundary mesh failed.
+    #[error(transparent)]
+    Boundary(#[from] BoundaryError),
+    /// The size map is unusable.
+    #[error(transparent)]
+    Sizing(#[from] SizingError),
+    /// The front failed.
+    #[error(transparent)]
+    Front(#[from] FrontError),
+}
+
+/// Counters and timings of one run.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Report {
+    /// The boundary mesh.
+    pub boundary: BoundaryReport,
+    /// The front, with its per-iteration series.
+    pub front: FrontReport,
+    /// Vertices of the domain mesh.
+    pub vertices: usize,
+    /// Tets of the domain mesh.
+    pub tets: usize,
+    /// Seconds: boundary mesh.
+    pub time_boundary: f64,
+    /// Seconds: control space.
+    pub time_sizing: f64,
+    /// Seconds: front.
+    pub time_front: f64,
+    /// Seconds: all.
+    pub time_total: f64,
+}
+
+/// The meshed domain.
+#[derive(Clone, Debug)]
+pub struct Meshed {
+    /// The whole box mesh (outside tets have region 0).
+    pub mesh: TetMesh,
+    /// Region per tet slot.
+    pub region: Vec<u32>,
+    /// Size at every vertex.
+    pub h: Vec<f64>,
+    /// Mesh vertex of each input vertex.
+    pub surface_vertex: Vec<VertexId>,
+}
+
+/// Meshes the domain bounded by `surface`.
+pub fn mesh(surface: &Surface, params: &Params) -> Result<(Meshed, Report), MeshError> {
+    mesh_with_progress(surface, params, &mut |_| {})
+}
+
+/// [`mesh`], calling `progress` after every front iteration.
+pub fn mesh_with_progress(
+    surface: &Surface,
+    params: &Params,
+    progress: &mut dyn FnMut(&Iteration),
+) -> Result<(Meshed, Report), MeshError> {
+    let t0 = Instant::now();
+    let (bm, boundary) = boundary_mesh(surface, &params.boundary)?;
+    let time_boundary = t0.elapsed().as_secs_f64();
+    let t1 = Instant::now();
+    let field: Box<dyn SizeField> = match &params.size {
+        SizeSpec::Boundary => Box::new(Background::from_boundary(&bm, surface)?),
+        SizeSpec::Constant(h) => Box::new(crate::sizing::constant(*h)?),
+        SizeSpec::Background { mesh, sizes } => {
+            Box::new(Background::from_volume(mesh, sizes.clone())?)
+        }
+    };
+    let mut fm = field_mesh(bm.mesh, &bm.region, &bm.constrained, field.as_ref());
+    let time_sizing = t1.elapsed().as_secs_f64();
+    let t2 = Instant::now();
+    let front = advance(&mut fm, field.as_ref(), &params.front, progress)?;
+    let time_front = t2.elapsed().as_secs_f64();
+    let meshed = Meshed {
+        mesh: fm.mesh,
+        region: fm.cons.region,
+        h: fm.h,
+        surface_vertex: bm.surface_vertex,
+    };
+    let tets = meshed.domain_tets().count();
+    let report = Report {
+        boundary,
+        front,
+        vertices: meshed.to_volume_mesh(surface).vertices.len(),
+        tets,
+        time_boundary,
+        time_sizing,
+        time_front,
+        time_total: t0.elapsed().as_secs_f64(),
+    };
+    Ok((meshed, report))
+}
+
+/// The front's mesh from T(S,F): constraint masks from the constrained faces, sizes at
+/// the vertices from the field.
+fn field_mesh(
+    mesh: TetMesh,
+    region: &[u32],
+    constrained: &std::collections::HashMap<[u32; 3], u32>,
+    field: &dyn SizeField,
+) -> FieldMesh {
+    let n = mesh.num_slots();
+    let mut cons = Constraints {
+        face_mask: vec![0; n],
+        region: region.to_vec(),
+    };
+    cons.resize(n);
+    for t in mesh.tets() {
+        let v = mesh.raw_tet(t.0);
+        let adj = mesh.raw_adj(t.0);
+        for (i, f) in FACE_VERTICES.iter().enumerate() {
+            // The domain's regions are flood-filled up to the constrained faces, so a
+            // face with the same region on both sides is not one: no lookup.
+            if cons.region[t.index()] == cons.region[(adj[i] >> 2) as usize] {
+                continue;
+            }
+            let mut key = [v[f[0]], v[f[1]], v[f[2]]];
+            key.sort_unstable();
+            if constrained.contains_key(&key) {
+                cons.face_mask[t.index()] |= 1 << i;
+            }
+        }
+    }
+    let mut hint = 0u32;
+    let h = mesh
+        .points()
+        .iter()
+        .map(|&p| field.size(p, &mut hint))
+        .collect();
+    FieldMesh { mesh, cons, h }
+}
+
+/// Normalised edge lengths of the interior edges (not on the surface) of a meshed
+/// domain, end-point form.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct EdgeBand {
+    /// Interior edges.
+    pub edges: usize,
+    /// Percentage with `0.6 <= l <= 1.67`.
+    pub in_band_percent: f64,
+    /// Mean normalised length.
+    pub mean: f64,
+}
+
+impl Meshed {
+    /// Finite tets with a non-zero region, in slot order.
+    pub fn domain_tets(&self) -> impl Iterator<Item = crate::tetmesh::TetId> + '_ {
+        self.mesh
+            .finite_tets()
+            .filter(|t| self.region[t.index()] != 0)
+    }
+
+    /// The domain as an exchange mesh: the input vertices first, in input order, then the
+    /// other vertices in mesh order; tets with their region; the input triangles.
+    pub fn to_volume_mesh(&self, surface: &Surface) -> VolumeMesh {
+        let (vm, _) = self.volume_and_sizes(surface);
+        vm
+    }
+
+    /// [`Self::to_volume_mesh`] and the size at each of its vertices.
+    pub fn volume_and_sizes(&self, surface: &Surface) -> (VolumeMesh, Vec<f64>) {
+        let mut index = vec![u32::MAX; self.mesh.num_vertices()];
+        let mut vertices: Vec<Point> = Vec::with_capacity(self.mesh.num_vertices());
+        let mut sizes = Vec::with_capacity(self.mesh.num_vertices());
+        for v in &self.surface_vertex {
+            index[v.index()] = vertices.len() as u32;
+            vertices.push(self.mesh.point(*v));
+            sizes.push(self.h[v.index()]);
+        }
+        let mut tets = Vec::new();
+        let mut tet_refs = Vec::new();
+        for t in self.domain_tets() {
+            let tv = self.mesh.tet(t).map(|v| {
+                if index[v.index()] == u32::MAX {
+                    index[v.index()] = vertices.len() as u32;
+                    vertices.push(self.mesh.point(v));
+                    sizes.push(self.h[v.index()]);
+                }
+                index[v.index()]
+            });
+            tets.push(tv);
+            tet_refs.push(self.region[t.index()] as i32);
+        }
+        let vm = VolumeMesh {
+            vertices,
+            tets,
+            tet_refs,
+            triangles: surface.triangles.clone(),
+            triangle_refs: vec![1; surface.triangles.len()],
+            vertex_sizes: None,
+        };
+        (vm, sizes)
+    }
+
+    /// Normalised lengths of the interior edges with respect to the vertex sizes.
+    pub fn edge_band(&self, surface: &Surface) -> EdgeBand {
+        let (vm, sizes) = self.volume_and_sizes(surface);
+        let surf = unique_triangle_edges(&vm.triangles);
+        let mut edges = 0usize;
+        let (mut inside, mut sum) = (0usize, 0.0);
+        for e in unique_tet_edges(&vm.tets) {
+            if surf.binary_search(&e).is_ok() {
+                continue;
+            }
+            let (a, b) = (e[0] as usize, e[1] as usize);
+            let l = normalized_length(vm.vertices[a].distance(vm.vertices[b]), sizes[a], sizes[b]);
+            edges += 1;
+            sum += l;
+            if (0.6..=1.67).contains(&l) {
+                inside += 1;
+            }
+        }
+        let pct = |k: usize| {
+            if edges == 0 {
+                f64::NAN
+            } else {
+                100.0 * k as f64 / edges as f64
+            }
+        };
+        EdgeBand {
+            edges,
+            in_band_percent: pct(inside),
+            mean: if edges == 0 {
+                f64::NAN
+            } else {
+                sum / edges as f64
+            },
+        }
+    }
+}

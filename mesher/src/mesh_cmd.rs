@@ -1,0 +1,118 @@
+//! `mesher mesh`: reads the surface and the size map, runs [`mesher::mesh`] with a
+//! progress bar over the front iterations, writes the mesh, the statistics JSON and a
+//! summary line.
+
+use super::{Length, MeshArgs, RemedialArg};
+use anyhow::{Context, Result};
+use indicatif::{ProgressBar, ProgressStyle};
+use mesher::front::Remedial;
+use mesher::sizing::LengthMode;
+use mesher::{MeshError, Params, SizeSpec};
+use std::process::ExitCode;
+
+pub fn mesh(args: &MeshArgs) -> Result<ExitCode> {
+    let read = mesher::io::read_surface(&args.surface)?;
+    let surface = read.surface;
+    let params = params_from(args)?;
+    let bar = ProgressBar::new(params.front.max_iterations as u64);
+    bar.set_style(
+        ProgressStyle::with_template("front {pos:>2}/{len} {bar:30} {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let mut progress = |it: &mesher::front::Iteration| {
+        bar.inc(1);
+        bar.set_message(format!(
+            "front {} inserted {} tets {}",
+            it.front, it.inserted, it.tets
+        ));
+    };
+    let result = mesher::mesh::mesh_with_progress(&surface, &params, &mut progress);
+    bar.finish_and_clear();
+    let (meshed, report) = match result {
+        Ok(r) => r,
+        Err(MeshError::Boundary(
+            e @ (mesher::boundary::BoundaryError::Defective { .. }
+            | mesher::boundary::BoundaryError::VertexOnEntity { .. }),
+        )) => {
+            eprintln!("mesher: {}: {e}", args.surface.display());
+            return Ok(ExitCode::from(1));
+        }
+        Err(e) => return Err(e).with_context(|| format!("meshing {}", args.surface.display())),
+    };
+    if args.validate {
+        meshed
+            .mesh
+            .validate(false)
+            .context("the mesh failed validation")?;
+    }
+    let vm = meshed.to_volume_mesh(&surface);
+    if let Some(out) = &args.output {
+        mesher::io::write_volume(out, &vm).with_context(|| format!("writing {}", out.display()))?;
+    }
+    let q_t = mesher::quality::target_quality(&surface.vertices, &surface.triangles);
+    let summary = mesher::quality::summarize(&vm, Some(q_t.q_t));
+    let band = meshed.edge_band(&surface);
+    if let Some(path) = &args.stats {
+        let mut v = serde_json::to_value(&report)?;
+        v["iterations"] = serde_json::to_value(&report.front.iterations)?;
+        v["quality"] = serde_json::to_value(&summary)?;
+        v["edges"] = serde_json::to_value(&band)?;
+        std::fs::write(path, serde_json::to_string_pretty(&v)? + "\n")
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
+    eprintln!(
+        "mesher: {} vertices, {} tets, {} iterations{}; worst Q_K {:.2} (Q_t {:.2}), {:.1} % Q_K < 3, {:.1} % edges in [0.6, 1.67]; {:.3} s",
+        report.vertices,
+        report.tets,
+        report.front.iterations.len(),
+        if report.front.converged { "" } else { " (front not empty)" },
+        summary.worst_q_k,
+        q_t.q_t,
+        summary.well_shaped_percent,
+        band.in_band_percent,
+        report.time_total
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The library parameters from the command line.
+fn params_from(args: &MeshArgs) -> Result<Params> {
+    let mut params = Params {
+        optimize: !args.no_optimize,
+        ..Params::default()
+    };
+    params.front.max_iterations = args.max_iterations;
+    params.front.delta = args.delta;
+    params.front.delta_f = args.delta_f;
+    params.front.delta_v = args.delta_v;
+    params.front.point.mode = match args.length {
+        Length::Endpoints => LengthMode::EndPoints,
+        Length::Piecewise => LengthMode::Piecewise,
+    };
+    params.front.remedial = match args.remedial {
+        RemedialArg::Front => Remedial::Front,
+        RemedialArg::All => Remedial::All,
+    };
+    if let Some(h) = args.size {
+        params.size = SizeSpec::Constant(h);
+    } else if let Some(bg) = &args.size_map {
+        let mesh = mesher::io::read_volume(bg)
+            .with_context(|| format!("reading the size map {}", bg.display()))?;
+        let sizes = match &args.size_sol {
+            Some(sol) => {
+                let text = std::fs::read_to_string(sol)
+                    .with_context(|| format!("reading {}", sol.display()))?;
+                mesher::io::medit::parse_sol(
+                    &sol.display().to_string(),
+                    &text,
+                    mesh.vertices.len(),
+                )?
+            }
+            None => mesh.vertex_sizes.clone().with_context(|| {
+                format!("{} has no .sol beside it; give --size-sol", bg.display())
+            })?,
+        };
+        params.size = SizeSpec::Background { mesh, sizes };
+    }
+    Ok(params)
+}

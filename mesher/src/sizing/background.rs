@@ -1,0 +1,282 @@
+//! Size interpolated on a background tet mesh (paper §5.3.1, §7): barycentric
+//! interpolation of per-vertex sizes in the tet containing the point, located by a
+//! bounded walk; and the piecewise normalised length along the background tets crossed
+//! by an edge (§5.3.2).
+//!
+//! Barycentric coordinates are inexact constructions (floating-point volumes): they only
+//! weigh sizes, they decide nothing topological. The walk steps across the face with the
+//! most negative coordinate; it is bounded, and a point outside the background mesh (or
+//! a walk that hits its bound) takes the clamped coordinates of the last tet reached.
+
+use super::{SizeField, SizingError};
+use crate::boundary::BoundaryMesh;
+use crate::geom::predicates::{orient3d, Orientation};
+use crate::geom::Point;
+use crate::quality::length::normalized_length;
+use crate::surface::Surface;
+use crate::tetmesh::{TetMesh, VertexId};
+use crate::volume::VolumeMesh;
+
+/// Steps of a location walk before it gives up (clamped coordinates).
+const MAX_WALK: usize = 4096;
+/// Background tets crossed by one edge before the piecewise length stops splitting.
+const MAX_CROSSINGS: usize = 256;
+/// Passes of neighbour averaging for vertices without a size of their own.
+const MEAN_PASSES: usize = 16;
+/// Tolerance on barycentric coordinates for "inside".
+const BARY_EPS: f64 = 1e-12;
+
+/// Per-vertex sizes on a background tet mesh.
+#[derive(Clone, Debug)]
+pub struct Background {
+    mesh: TetMesh,
+    h: Vec<f64>,
+    /// A finite tet to start walks from.
+    any: u32,
+}
+
+impl Background {
+    /// A background from a tet mesh and one positive finite size per vertex.
+    pub fn new(mesh: TetMesh, h: Vec<f64>) -> Result<Background, SizingError> {
+        if h.len() != mesh.num_vertices() {
+            return Err(SizingError::Count {
+                sizes: h.len(),
+                vertices: mesh.num_vertices(),
+            });
+        }
+        if let Some((vertex, &value)) = h
+            .iter()
+            .enumerate()
+            .find(|(_, &x)| !(x > 0.0 && x.is_finite()))
+        {
+            return Err(SizingError::BadSize { vertex, value });
+        }
+        let any = mesh
+            .finite_tets()
+            .next()
+            .ok_or_else(|| SizingError::Mesh("no tetrahedron".into()))?
+            .0;
+        Ok(Background { mesh, h, any })
+    }
+
+    /// The paper's control space (§5.3.1) on the boundary mesh T(S,F): at a surface
+    /// vertex, the mean of the shortest and longest input edges there; at every other
+    /// vertex (Steiner points, box corners), the mean size of its neighbours that have
+    /// one (repeated a few passes; the mean surface size if still unknown).
+    pub fn from_boundary(bm: &BoundaryMesh, surface: &Surface) -> Result<Background, SizingError> {
+        let h = boundary_sizes(bm, surface);
+        Background::new(bm.mesh.clone(), h)
+    }
+
+    /// A user background mesh with one size per vertex (paper §7). Negatively oriented
+    /// tets are reoriented; flat tets are dropped.
+    pub fn from_volume(vm: &VolumeMesh, sizes: Vec<f64>) -> Result<Background, SizingError> {
+        let mut tets = Vec::with_capacity(vm.tets.len());
+        for t in &vm.tets {
+            if t.iter().any(|&v| v as usize >= vm.vertices.len()) {
+                return Err(SizingError::Mesh(format!("tet {t:?} out of range")));
+            }
+            let p = t.map(|v| vm.vertices[v as usize]);
+            match orient3d(p[0], p[1], p[2], p[3]) {
+                Orientation::Positive => tets.push(*t),
+                Orientation::Negative => tets.push([t[1], t[0], t[2], t[3]]),
+                Orientation::Zero => {}
+            }
+        }
+        let mesh = TetMesh::from_tets(vm.vertices.clone(), &tets)
+            .map_err(|e| SizingError::Mesh(e.to_string()))?;
+        Background::new(mesh, sizes)
+    }
+
+    /// The size at each background vertex.
+    pub fn vertex_sizes(&self) -> &[f64] {
+        &self.h
+    }
+
+    /// The tet where `p` is, or the last reached, with `p`'s barycentric coordinates in
+    /// it (clamped to the tet when `p` is outside).
+    fn locate(&self, p: Point, hint: &mut u32) -> (u32, [f64; 4]) {
+        let mut t = *hint;
+        let valid = |t: u32| {
+            (t as usize) < self.mesh.num_slots()
+                && self.mesh.is_alive(crate::tetmesh::TetId(t))
+                && self.mesh.raw_tet(t)[3] != VertexId::GHOST.0
+        };
+        if !valid(t) {
+            t = self.any;
+        }
+        let mut l = [0.25; 4];
+        for _ in 0..MAX_WALK {
+            l = barycentric(&self.mesh.tet_points(crate::tetmesh::TetId(t)), p);
+            let (i, &min) = l
+                .iter()
+                .enumerate()
+                .min_by(|a, b| a.1.total_cmp(b.1))
+                .unwrap_or((0, &0.0));
+            if min >= -BARY_EPS || min.is_nan() {
+                break;
+            }
+            let u = self.mesh.raw_adj(t)[i] >> 2;
+            if !valid(u) {
+                break;
+            }
+            t = u;
+        }
+        *hint = t;
+        (t, clamp(l))
+    }
+
+    /// Interpolated size at barycentric coordinates `l` of tet `t`.
+    #[inline]
+    fn interpolate(&self, t: u32, l: &[f64; 4]) -> f64 {
+        let v = self.mesh.raw_tet(t);
+        (0..4).map(|i| l[i] * self.h[v[i] as usize]).sum()
+    }
+}
+
+impl SizeField for Background {
+    fn size(&self, p: Point, hint: &mut u32) -> f64 {
+        let (t, l) = self.locate(p, hint);
+        self.interpolate(t, &l)
+    }
+
+    /// Walks the segment `ab` through the background tets; at each exit point the size
+    /// is interpolated and one piece of the length is added.
+    fn length_piecewise(&self, a: Point, b: Point, h_a: f64, h_b: f64, hint: &mut u32) -> f64 {
+        let d = a.distance(b);
+        let (mut t, _) = self.locate(a, hint);
+        let (mut s0, mut h0) = (0.0f64, h_a);
+        let mut sum = 0.0;
+        let mut came = usize::MAX;
+        for _ in 0..MAX_CROSSINGS {
+            let q = self.mesh.tet_points(crate::tetmesh::TetId(t));
+            let (la, lb) = (barycentric(&q, a), barycentric(&q, b));
+            // Exit: among the faces that `b` lies beyond, the one the segment reaches
+            // first (not before s0: rounding near edges and vertices).
+            let mut exit: Option<(usize, f64)> = None;
+            for i in 0..4 {
+                // `!(x < y)` also skips NaN coordinates (a flat tet).
+                if i == came || !(lb[i] < 0.0 && lb[i] < la[i]) {
+                    continue;
+                }
+                let s = la[i] / (la[i] - lb[i]);
+                if !s.is_finite() {
+                    continue;
+                }
+                let s = s.max(s0).min(1.0);
+                if exit.is_none_or(|(_, e)| s < e) {
+                    exit = Some((i, s));
+                }
+            }
+            let Some((i, s)) = exit else { break };
+            let at: [f64; 4] = std::array::from_fn(|k| la[k] + s * (lb[k] - la[k]));
+            let h = self.interpolate(t, &clamp(at));
+            sum += normalized_length((s - s0) * d, h0, h);
+            (s0, h0) = (s, h);
+            let f = self.mesh.raw_adj(t)[i];
+            let u = f >> 2;
+            if self.mesh.raw_tet(u)[3] == VertexId::GHOST.0 {
+                break;
+            }
+            t = u;
+            came = (f & 3) as usize;
+        }
+        sum + normalized_length((1.0 - s0) * d, h0, h_b)
+    }
+}
+
+/// Barycentric coordinates of `p` in the tet `q` (floating point; NaN for a flat tet).
+fn barycentric(q: &[Point; 4], p: Point) -> [f64; 4] {
+    let vol = |a: Point, b: Point, c: Point, d: Point| (b - a).dot((c - a).cross(d - a));
+    let total = vol(q[0], q[1], q[2], q[3]);
+    [
+        vol(p, q[1], q[2], q[3]) / total,
+        vol(q[0], p, q[2], q[3]) / total,
+        vol(q[0], q[1], p, q[3]) / total,
+        vol(q[0], q[1], q[2], p) / total,
+    ]
+}
+
+/// Coordinates clamped to the tet (non-negative, summing to 1); uniform if unusable.
+fn clamp(l: [f64; 4]) -> [f64; 4] {
+    let c = l.map(|x| if x.is_finite() { x.max(0.0) } else { 0.0 });
+    let s: f64 = c.iter().sum();
+    if s > 0.0 {
+        c.map(|x| x / s)
+    } else {
+        [0.25; 4]
+    }
+}
+
+/// Per-vertex sizes of the paper's control space on T(S,F) (see
+/// [`Background::from_boundary`]).
+pub(crate) fn boundary_sizes(bm: &BoundaryMesh, surface: &Surface) -> Vec<f64> {
+    let n = bm.mesh.num_vertices();
+    let mut lmin = vec![f64::INFINITY; n];
+    let mut lmax = vec![0.0f64; n];
+    for t in &surface.triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k] as usize, t[(k + 1) % 3] as usize);
+            let (va, vb) = (bm.surface_vertex[a].index(), bm.surface_vertex[b].index());
+            let d = surface.vertices[a].distance(surface.vertices[b]);
+            for v in [va, vb] {
+                lmin[v] = lmin[v].min(d);
+                lmax[v] = lmax[v].max(d);
+            }
+        }
+    }
+    let mut h: Vec<f64> = (0..n)
+        .map(|v| {
+            if lmax[v] > 0.0 {
+                0.5 * (lmin[v] + lmax[v])
+            } else {
+                f64::NAN
+            }
+        })
+        .collect();
+    let known: Vec<f64> = h.iter().copied().filter(|x| x.is_finite()).collect();
+    let mean = if known.is_empty() {
+        1.0
+    } else {
+        known.iter().sum::<f64>() / known.len() as f64
+    };
+    // Vertex adjacency through the finite tets' edges.
+    let mut edges: Vec<[u32; 2]> = Vec::new();
+    for t in bm.mesh.finite_tets() {
+        let v = bm.mesh.raw_tet(t.0);
+        for [i, j] in crate::quality::tet::TET_EDGES {
+            edges.push([v[i].min(v[j]), v[i].max(v[j])]);
+        }
+    }
+    edges.sort_unstable();
+    edges.dedup();
+    for _ in 0..MEAN_PASSES {
+        if h.iter().all(|x| x.is_finite()) {
+            break;
+        }
+        let mut sum = vec![0.0; n];
+        let mut cnt = vec![0u32; n];
+        for &[a, b] in &edges {
+            let (a, b) = (a as usize, b as usize);
+            if h[a].is_finite() && !h[b].is_finite() {
+                sum[b] += h[a];
+                cnt[b] += 1;
+            }
+            if h[b].is_finite() && !h[a].is_finite() {
+                sum[a] += h[b];
+                cnt[a] += 1;
+            }
+        }
+        for v in 0..n {
+            if !h[v].is_finite() && cnt[v] > 0 {
+                h[v] = sum[v] / cnt[v] as f64;
+            }
+        }
+    }
+    for x in &mut h {
+        if !x.is_finite() {
+            *x = mean;
+        }
+    }
+    h
+}

@@ -1,0 +1,248 @@
+//! The whole mesher (paper §2-§5) end to end: boundary mesh, control space, field
+//! points by the advancing front. Every mesh is checked: valid adjacency, every tet
+//! positive, the domain's boundary faces exactly the input triangles, volume equal to
+//! the enclosed volume, the front converged. Real models come from `corpus/cache`
+//! (`scripts/fetch-corpus.sh`); without them those tests skip with a message, except
+//! under CI where they fail.
+
+use mesher::front::{FrontParams, Remedial};
+use mesher::geom::Point;
+use mesher::io::read_surface;
+use mesher::quality::signed_volume;
+use mesher::surface::generate::{cube, icosphere, torus};
+use mesher::{mesh, Meshed, Params, Report, SizeSpec, Surface, VolumeMesh};
+use std::collections::HashMap;
+use std::path::PathBuf;
+
+/// Meshes `s` and checks every property; returns the mesh and the report.
+fn check(name: &str, s: &Surface, params: &Params) -> (Meshed, Report) {
+    let (m, r) = mesh(s, params).unwrap_or_else(|e| panic!("{name}: {e}"));
+    m.mesh
+        .validate(false)
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
+    assert!(r.front.converged, "{name}: the front did not converge");
+    let vm = m.to_volume_mesh(s);
+    assert_eq!(&vm.vertices[..s.vertices.len()], &s.vertices[..], "{name}");
+    assert_eq!(
+        boundary_faces(&vm),
+        sorted_triangles(&s.triangles),
+        "{name}"
+    );
+    let volume: f64 = (0..vm.tets.len())
+        .map(|t| signed_volume(&vm.tet_points(t)))
+        .sum();
+    let enclosed = r.boundary.enclosed_volume;
+    assert!(
+        ((volume - enclosed) / enclosed).abs() < 1e-9,
+        "{name}: volume {volume} vs enclosed {enclosed}"
+    );
+    assert_eq!(vm.tets.len(), r.tets, "{name}");
+    (m, r)
+}
+
+/// Faces of exactly one tet, sorted.
+fn boundary_faces(vm: &VolumeMesh) -> Vec<[u32; 3]> {
+    let mut count: HashMap<[u32; 3], u32> = HashMap::new();
+    for t in &vm.tets {
+        for f in [
+            [t[1], t[2], t[3]],
+            [t[0], t[2], t[3]],
+            [t[0], t[1], t[3]],
+            [t[0], t[1], t[2]],
+        ] {
+            let mut f = f;
+            f.sort_unstable();
+            *count.entry(f).or_default() += 1;
+        }
+    }
+    let mut b: Vec<[u32; 3]> = count
+        .into_iter()
+        .filter(|e| e.1 == 1)
+        .map(|e| e.0)
+        .collect();
+    b.sort_unstable();
+    b
+}
+
+fn sorted_triangles(t: &[[u32; 3]]) -> Vec<[u32; 3]> {
+    let mut v: Vec<[u32; 3]> = t
+        .iter()
+        .map(|t| {
+            let mut t = *t;
+            t.sort_unstable();
+            t
+        })
+        .collect();
+    v.sort_unstable();
+    v
+}
+
+#[test]
+fn generated_shapes() {
+    for (name, s) in [
+        ("sphere", icosphere(3)),
+        ("cube", cube(4)),
+        ("torus", torus(32, 12, 2.0, 0.6)),
+    ] {
+        let (m, r) = check(name, &s, &Params::default());
+        assert!(
+            r.front.iterations.len() <= 30,
+            "{name}: {}",
+            r.front.iterations.len()
+        );
+        assert!(r.vertices > s.vertices.len(), "{name}: no field point");
+        let band = m.edge_band(&s);
+        assert!(band.in_band_percent >= 90.0, "{name}: {band:?}");
+    }
+}
+
+#[test]
+fn nested_spheres_fill_the_shell() {
+    let outer = icosphere(3);
+    let inner = icosphere(2);
+    let n = outer.vertices.len() as u32;
+    let mut s = outer.clone();
+    s.vertices.extend(inner.vertices.iter().map(|p| *p * 0.5));
+    s.triangles.extend(
+        inner
+            .triangles
+            .iter()
+            .map(|t| [t[0] + n, t[2] + n, t[1] + n]),
+    );
+    let (m, _) = check("nested spheres", &s, &Params::default());
+    // No field point inside the hole.
+    let vm = m.to_volume_mesh(&s);
+    assert!(vm.vertices.iter().all(|p| p.length() > 0.5 - 1e-9));
+}
+
+#[test]
+fn constant_size_on_a_cube_gives_unit_edges() {
+    let s = cube(8);
+    let params = Params {
+        size: SizeSpec::Constant(0.125),
+        ..Params::default()
+    };
+    let (m, r) = check("cube h=1/8", &s, &params);
+    let band = m.edge_band(&s);
+    assert!(band.in_band_percent >= 90.0, "{band:?}");
+    assert!(r.front.iterations.len() <= 30);
+}
+
+#[test]
+fn background_size_map_grades_the_mesh() {
+    // A background box whose size grows with x: more vertices on the fine side.
+    let mut vertices = Vec::new();
+    for i in 0..8 {
+        vertices.push(Point::new(
+            if i & 1 != 0 { 1.5 } else { -1.5 },
+            if i & 2 != 0 { 1.5 } else { -1.5 },
+            if i & 4 != 0 { 1.5 } else { -1.5 },
+        ));
+    }
+    let bg = mesher::delaunay::triangulate(&vertices, &Default::default()).unwrap();
+    let vm = bg.mesh.to_volume_mesh();
+    let sizes: Vec<f64> = vm
+        .vertices
+        .iter()
+        .map(|p| 0.1 + 0.1 * (p.x + 1.5))
+        .collect();
+    let s = icosphere(3);
+    let params = Params {
+        size: SizeSpec::Background { mesh: vm, sizes },
+        ..Params::default()
+    };
+    let (m, _) = check("graded sphere", &s, &params);
+    let out = m.to_volume_mesh(&s);
+    let inner = &out.vertices[s.vertices.len()..];
+    let left = inner.iter().filter(|p| p.x < -0.2).count();
+    let right = inner.iter().filter(|p| p.x > 0.2).count();
+    assert!(left > 2 * right, "{left} {right}");
+}
+
+#[test]
+fn remedial_rule_accepts_survivors() {
+    // With a huge filtration distance every field point is dropped: the tets behind
+    // the front survive and the remedial rule accepts them, so the front still empties
+    // and the mesh is T(S,F) itself.
+    let s = cube(2);
+    for remedial in [Remedial::Front, Remedial::All] {
+        let params = Params {
+            front: FrontParams {
+                delta_f: 1e3,
+                delta_v: 1e3,
+                remedial,
+                ..FrontParams::default()
+            },
+            ..Params::default()
+        };
+        let (_, r) = check("cube, no field point", &s, &params);
+        let it = &r.front.iterations;
+        assert!(it.iter().all(|i| i.inserted == 0));
+        assert!(it[0].remedial > 0, "{it:?}");
+        assert_eq!(r.tets, r.boundary.tets);
+        if remedial == Remedial::All {
+            // Every tet of the domain was unacceptable and survived: one iteration.
+            assert_eq!(it.len(), 1);
+            assert_eq!(it[0].remedial, r.boundary.tets);
+        }
+    }
+}
+
+#[test]
+fn piecewise_lengths_give_a_valid_mesh() {
+    let s = torus(24, 10, 2.0, 0.6);
+    let mut params = Params::default();
+    params.front.point.mode = mesher::sizing::LengthMode::Piecewise;
+    check("torus, piecewise lengths", &s, &params);
+}
+
+#[test]
+fn same_input_same_bytes() {
+    let s = torus(40, 8, 2.0, 0.3);
+    let dir = tempfile::tempdir().unwrap();
+    let mut files = Vec::new();
+    for k in 0..2 {
+        let (m, _) = mesh(&s, &Params::default()).unwrap();
+        let p = dir.path().join(format!("run{k}.mesh"));
+        mesher::io::write_volume(&p, &m.to_volume_mesh(&s)).unwrap();
+        files.push(std::fs::read(&p).unwrap());
+    }
+    assert_eq!(files[0], files[1]);
+}
+
+fn corpus(rel: &str) -> Option<Surface> {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../corpus/cache")
+        .join(rel);
+    if !p.is_file() {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "{} missing: run scripts/fetch-corpus.sh",
+            p.display()
+        );
+        eprintln!(
+            "skipped: {} missing (run scripts/fetch-corpus.sh)",
+            p.display()
+        );
+        return None;
+    }
+    Some(
+        read_surface(&p)
+            .unwrap_or_else(|e| panic!("{rel}: {e}"))
+            .surface,
+    )
+}
+
+#[test]
+fn corpus_models() {
+    for rel in [
+        "cgal/meshes/cube.off",
+        "cgal/meshes/elephant.off",
+        "cgal/meshes/knot2.off",
+        "cgal/meshes/fandisk.off",
+        "netgen/hinge.stl",
+    ] {
+        let Some(s) = corpus(rel) else { return };
+        check(rel, &s, &Params::default());
+    }
+}
