@@ -108,9 +108,12 @@ struct MeshArgs {
     /// The Medit .sol with one size per vertex of --size-map.
     #[arg(long, requires = "size_map")]
     size_sol: Option<PathBuf>,
-    /// Skip the optimisation (accepted; optimisation is not implemented yet).
+    /// Skip the optimisation (paper §6).
     #[arg(long)]
     no_optimize: bool,
+    /// Bound on the optimisation passes over the bad tets.
+    #[arg(long, default_value_t = mesher::optimize::OptimizeOptions::default().max_passes)]
+    optimize_passes: usize,
     /// Normalised edge lengths: from the end-point sizes, or piecewise along the
     /// background tets.
     #[arg(long, value_enum, default_value_t = Length::Endpoints)]

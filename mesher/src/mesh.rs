@@ -1,5 +1,5 @@
 //! The whole mesher (paper §2): boundary mesh T(S,F) (§4), control space (§5.3.1),
-//! field points by the advancing front (§5); optimisation (§6) is a later stage.
+//! field points by the advancing front (§5), then optimisation (§6).
 //!
 //! [`mesh`] takes a closed surface and [`Params`] and returns the [`Meshed`] domain
 //! (tets, regions, sizes) and a [`Report`] with the front's convergence series.
@@ -8,6 +8,7 @@ use crate::boundary::{boundary_mesh, BoundaryError, BoundaryOptions, BoundaryRep
 use crate::delaunay::Constraints;
 use crate::front::{advance, FieldMesh, FrontError, FrontParams, FrontReport, Iteration};
 use crate::geom::Point;
+use crate::optimize::{optimize, Domain, OptimizeOptions, OptimizeReport};
 use crate::quality::length::normalized_length;
 use crate::quality::summary::{unique_tet_edges, unique_triangle_edges};
 use crate::sizing::{Background, SizeField, SizingError};
@@ -36,7 +37,7 @@ pub enum SizeSpec {
 }
 
 /// Parameters of [`mesh`].
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Params {
     /// The boundary mesh.
     pub boundary: BoundaryOptions,
@@ -44,8 +45,22 @@ pub struct Params {
     pub front: FrontParams,
     /// The size map.
     pub size: SizeSpec,
-    /// Optimisation (paper §6): accepted, not implemented yet (a no-op).
+    /// Run the optimisation (paper §6).
     pub optimize: bool,
+    /// Its parameters.
+    pub optimize_options: OptimizeOptions,
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Params {
+            boundary: BoundaryOptions::default(),
+            front: FrontParams::default(),
+            size: SizeSpec::default(),
+            optimize: true,
+            optimize_options: OptimizeOptions::default(),
+        }
+    }
 }
 
 /// Why no mesh was made.
@@ -79,6 +94,10 @@ pub struct Report {
     pub time_sizing: f64,
     /// Seconds: front.
     pub time_front: f64,
+    /// The optimisation, when it ran: histograms before and after, per-pass counts.
+    pub optimize: Option<OptimizeReport>,
+    /// Seconds: optimisation.
+    pub time_optimize: f64,
     /// Seconds: all.
     pub time_total: f64,
 }
@@ -94,6 +113,10 @@ pub struct Meshed {
     pub h: Vec<f64>,
     /// Mesh vertex of each input vertex.
     pub surface_vertex: Vec<VertexId>,
+    /// Steiner points left on input edges (mesh vertices).
+    pub boundary_steiner: Vec<VertexId>,
+    /// The boundary faces: the input triangles, or their pieces where an edge is split.
+    pub faces: Vec<[VertexId; 3]>,
 }
 
 /// Meshes the domain bounded by `surface`.
@@ -123,24 +146,67 @@ pub fn mesh_with_progress(
     let t2 = Instant::now();
     let front = advance(&mut fm, field.as_ref(), &params.front, progress)?;
     let time_front = t2.elapsed().as_secs_f64();
-    let meshed = Meshed {
+    let mut meshed = Meshed {
         mesh: fm.mesh,
         region: fm.cons.region,
         h: fm.h,
         surface_vertex: bm.surface_vertex,
+        boundary_steiner: bm.boundary_steiner,
+        faces: bm.faces,
     };
+    let t3 = Instant::now();
+    let optimize = params
+        .optimize
+        .then(|| optimize_meshed(&mut meshed, &bm.box_corners, field.as_ref(), params));
+    let time_optimize = t3.elapsed().as_secs_f64();
     let tets = meshed.domain_tets().count();
     let report = Report {
         boundary,
         front,
-        vertices: meshed.to_volume_mesh(surface).vertices.len(),
+        vertices: meshed.to_volume_mesh().vertices.len(),
         tets,
         time_boundary,
         time_sizing,
         time_front,
+        optimize,
+        time_optimize,
         time_total: t0.elapsed().as_secs_f64(),
     };
     Ok((meshed, report))
+}
+
+/// Optimises the meshed domain in place (boundary vertices and faces fixed); points it
+/// inserts get their size from the field.
+fn optimize_meshed(
+    meshed: &mut Meshed,
+    corners: &[VertexId],
+    field: &dyn SizeField,
+    params: &Params,
+) -> OptimizeReport {
+    let mut fixed = vec![false; meshed.mesh.num_vertices()];
+    for v in meshed
+        .surface_vertex
+        .iter()
+        .chain(&meshed.boundary_steiner)
+        .chain(corners)
+    {
+        fixed[v.index()] = true;
+    }
+    let mut domain = Domain {
+        constrained: meshed.faces.iter().map(|f| f.map(|v| v.0)).collect(),
+        mesh: std::mem::take(&mut meshed.mesh),
+        region: std::mem::take(&mut meshed.region),
+        fixed,
+    };
+    let report = optimize(&mut domain, &params.optimize_options);
+    meshed.mesh = domain.mesh;
+    meshed.region = domain.region;
+    let mut hint = 0u32;
+    let points = meshed.mesh.points();
+    for p in &points[meshed.h.len().min(points.len())..] {
+        meshed.h.push(field.size(*p, &mut hint));
+    }
+    report
 }
 
 /// The front's mesh from T(S,F): constraint masks from the constrained faces, sizes at
@@ -204,17 +270,17 @@ impl Meshed {
 
     /// The domain as an exchange mesh: the input vertices first, in input order, then the
     /// other vertices in mesh order; tets with their region; the input triangles.
-    pub fn to_volume_mesh(&self, surface: &Surface) -> VolumeMesh {
-        let (vm, _) = self.volume_and_sizes(surface);
+    pub fn to_volume_mesh(&self) -> VolumeMesh {
+        let (vm, _) = self.volume_and_sizes();
         vm
     }
 
     /// [`Self::to_volume_mesh`] and the size at each of its vertices.
-    pub fn volume_and_sizes(&self, surface: &Surface) -> (VolumeMesh, Vec<f64>) {
+    pub fn volume_and_sizes(&self) -> (VolumeMesh, Vec<f64>) {
         let mut index = vec![u32::MAX; self.mesh.num_vertices()];
         let mut vertices: Vec<Point> = Vec::with_capacity(self.mesh.num_vertices());
         let mut sizes = Vec::with_capacity(self.mesh.num_vertices());
-        for v in &self.surface_vertex {
+        for v in self.surface_vertex.iter().chain(&self.boundary_steiner) {
             index[v.index()] = vertices.len() as u32;
             vertices.push(self.mesh.point(*v));
             sizes.push(self.h[v.index()]);
@@ -237,16 +303,20 @@ impl Meshed {
             vertices,
             tets,
             tet_refs,
-            triangles: surface.triangles.clone(),
-            triangle_refs: vec![1; surface.triangles.len()],
+            triangles: self
+                .faces
+                .iter()
+                .map(|f| f.map(|v| index[v.index()]))
+                .collect(),
+            triangle_refs: vec![1; self.faces.len()],
             vertex_sizes: None,
         };
         (vm, sizes)
     }
 
     /// Normalised lengths of the interior edges with respect to the vertex sizes.
-    pub fn edge_band(&self, surface: &Surface) -> EdgeBand {
-        let (vm, sizes) = self.volume_and_sizes(surface);
+    pub fn edge_band(&self) -> EdgeBand {
+        let (vm, sizes) = self.volume_and_sizes();
         let surf = unique_triangle_edges(&vm.triangles);
         let mut edges = 0usize;
         let (mut inside, mut sum) = (0usize, 0.0);

@@ -45,13 +45,13 @@ pub fn mesh(args: &MeshArgs) -> Result<ExitCode> {
             .validate(false)
             .context("the mesh failed validation")?;
     }
-    let vm = meshed.to_volume_mesh(&surface);
+    let vm = meshed.to_volume_mesh();
     if let Some(out) = &args.output {
         mesher::io::write_volume(out, &vm).with_context(|| format!("writing {}", out.display()))?;
     }
     let q_t = mesher::quality::target_quality(&surface.vertices, &surface.triangles);
     let summary = mesher::quality::summarize(&vm, Some(q_t.q_t));
-    let band = meshed.edge_band(&surface);
+    let band = meshed.edge_band();
     if let Some(path) = &args.stats {
         let mut v = serde_json::to_value(&report)?;
         v["iterations"] = serde_json::to_value(&report.front.iterations)?;
@@ -81,6 +81,7 @@ fn params_from(args: &MeshArgs) -> Result<Params> {
         optimize: !args.no_optimize,
         ..Params::default()
     };
+    params.optimize_options.max_passes = args.optimize_passes;
     params.front.max_iterations = args.max_iterations;
     params.front.delta = args.delta;
     params.front.delta_f = args.delta_f;

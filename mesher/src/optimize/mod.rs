@@ -17,6 +17,7 @@ use crate::boundary::flips::Locks;
 use crate::boundary::local::Local;
 use crate::quality::Histogram;
 use crate::tetmesh::TetMesh;
+use crate::FastSet;
 use ops::Ops;
 use serde::Serialize;
 use std::time::Instant;
@@ -125,9 +126,11 @@ pub fn optimize(domain: &mut Domain, options: &OptimizeOptions) -> OptimizeRepor
     let mut ops = Ops::new(Local::new(mesh), locks, region, fixed);
     let (before, worst_before) = histogram(&ops);
     let mut passes = Vec::new();
+    // Tets (sorted vertices) that no operation improved: not tried again.
+    let mut failed: FastSet<[u32; 4]> = FastSet::default();
     for _ in 0..options.max_passes {
         let tp = Instant::now();
-        let mut stats = pass(&mut ops, options);
+        let mut stats = pass(&mut ops, options, &mut failed);
         stats.worst = histogram(&ops).1;
         stats.seconds = tp.elapsed().as_secs_f64();
         let done = stats.edge_removals + stats.face_flips + stats.smoothed + stats.inserted;
@@ -151,7 +154,7 @@ pub fn optimize(domain: &mut Domain, options: &OptimizeOptions) -> OptimizeRepor
 }
 
 /// One pass over the bad tets, worst first.
-fn pass(ops: &mut Ops, options: &OptimizeOptions) -> PassStats {
+fn pass(ops: &mut Ops, options: &OptimizeOptions, failed: &mut FastSet<[u32; 4]>) -> PassStats {
     let mut bad: Vec<(f64, u32, [u32; 4])> = ops
         .l
         .mesh
@@ -173,8 +176,15 @@ fn pass(ops: &mut Ops, options: &OptimizeOptions) -> PassStats {
         if !ops.l.mesh.is_alive(crate::tetmesh::TetId(t)) || ops.l.tet(t) != v {
             continue;
         }
+        let mut key = v;
+        key.sort_unstable();
+        if failed.contains(&key) {
+            continue;
+        }
         if improve(ops, t, v, options, &mut stats) {
             ops.l.forget();
+        } else {
+            failed.insert(key);
         }
     }
     stats
