@@ -7,6 +7,7 @@
 
 pub mod compare;
 pub mod corpus;
+pub mod gate;
 pub mod metrics;
 pub mod records;
 pub mod report;

@@ -23,6 +23,8 @@ enum Command {
     Report(harness::report::ReportArgs),
     /// Run, then report: records in OUT/run, the report in OUT (default reports/latest).
     Compare(harness::compare::CompareArgs),
+    /// Compare our rows of a run with the committed baseline; exit 1 on a regression.
+    Gate(harness::gate::GateArgs),
 }
 
 fn main() -> std::process::ExitCode {
@@ -31,6 +33,7 @@ fn main() -> std::process::ExitCode {
         Command::Run(a) => harness::runners::cli(a),
         Command::Report(a) => harness::report::cli(a),
         Command::Compare(a) => harness::compare::cli(a),
+        Command::Gate(a) => harness::gate::cli(a),
     };
     match result {
         Ok(code) => code,
