@@ -25,6 +25,8 @@ enum Command {
     Compare(harness::compare::CompareArgs),
     /// Compare our rows of a run with the committed baseline; exit 1 on a regression.
     Gate(harness::gate::GateArgs),
+    /// Append a run's per-mesher summary to the nightly history (reports/history.csv).
+    History(harness::report::history::HistoryArgs),
 }
 
 fn main() -> std::process::ExitCode {
@@ -34,6 +36,7 @@ fn main() -> std::process::ExitCode {
         Command::Report(a) => harness::report::cli(a),
         Command::Compare(a) => harness::compare::cli(a),
         Command::Gate(a) => harness::gate::cli(a),
+        Command::History(a) => harness::report::history::cli(a),
     };
     match result {
         Ok(code) => code,

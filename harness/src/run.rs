@@ -171,6 +171,7 @@ pub fn execute(args: &RunArgs) -> anyhow::Result<PathBuf> {
         .map(|r| (r.model.clone(), r.mesher.clone()))
         .collect();
     let ctx = Context_::new(Duration::from_secs_f64(args.timeout.max(0.001)));
+    let mut progress = Progress::new(&models, &runners, &done);
     for model in &models {
         let todo: Vec<&dyn Runner> = runners
             .iter()
@@ -180,6 +181,7 @@ pub fn execute(args: &RunArgs) -> anyhow::Result<PathBuf> {
         if todo.is_empty() {
             continue;
         }
+        progress.start_model(&model.id);
         let prepared = prepare(model);
         for runner in todo {
             let work = out.join("work").join(&model.id).join(runner.info().id);
@@ -188,7 +190,13 @@ pub fn execute(args: &RunArgs) -> anyhow::Result<PathBuf> {
             } else {
                 run_one(&ctx, model, &prepared, runner, &work)
             };
-            eprintln!("{:<24} {:<14} {}", model.id, row.mesher, summary_line(&row));
+            eprintln!(
+                "{} {:<24} {:<14} {}",
+                progress.step(),
+                model.id,
+                row.mesher,
+                summary_line(&row)
+            );
             rows.push(row);
             records::write_all(&out, &rows).context("writing results")?;
             if !args.keep_meshes {
@@ -198,6 +206,63 @@ pub fn execute(args: &RunArgs) -> anyhow::Result<PathBuf> {
     }
     eprintln!("harness run: {} records in {}", rows.len(), out.display());
     Ok(out)
+}
+
+/// Progress of a run on stderr: pairs done / to do, the model being meshed, elapsed time.
+struct Progress {
+    total: usize,
+    done: usize,
+    models: usize,
+    model: usize,
+    start: std::time::Instant,
+}
+
+impl Progress {
+    fn new(
+        models: &[Model],
+        runners: &[Box<dyn Runner>],
+        done: &HashSet<(String, String)>,
+    ) -> Progress {
+        let total = models
+            .iter()
+            .flat_map(|m| {
+                runners
+                    .iter()
+                    .map(move |r| (m.id.clone(), r.info().id.to_string()))
+            })
+            .filter(|pair| !done.contains(pair))
+            .count();
+        if !done.is_empty() {
+            eprintln!(
+                "harness run: resuming, {} pairs already recorded, {total} to do",
+                done.len()
+            );
+        }
+        Progress {
+            total,
+            done: 0,
+            models: models.len(),
+            model: 0,
+            start: std::time::Instant::now(),
+        }
+    }
+
+    fn start_model(&mut self, id: &str) {
+        self.model += 1;
+        let (m, n, t) = (self.model, self.models, self.elapsed());
+        eprintln!("harness run: model {m}/{n} {id} (elapsed {t})");
+    }
+
+    /// `[done/total elapsed]` after one more pair.
+    fn step(&mut self) -> String {
+        self.done += 1;
+        format!("[{}/{} {}]", self.done, self.total, self.elapsed())
+    }
+
+    fn elapsed(&self) -> String {
+        let s = self.start.elapsed().as_secs();
+        format!("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60)
+    }
 }
 
 /// The row of a slow peer left out by `--limit-slow`.
