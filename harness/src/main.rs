@@ -27,6 +27,8 @@ enum Command {
     Gate(harness::gate::GateArgs),
     /// Append a run's per-mesher summary to the nightly history (reports/history.csv).
     History(harness::report::history::HistoryArgs),
+    /// Combine the shard directories of one run (`run --shard K/N`) into one.
+    Merge(harness::merge::MergeArgs),
 }
 
 fn main() -> std::process::ExitCode {
@@ -37,6 +39,7 @@ fn main() -> std::process::ExitCode {
         Command::Compare(a) => harness::compare::cli(a),
         Command::Gate(a) => harness::gate::cli(a),
         Command::History(a) => harness::report::history::cli(a),
+        Command::Merge(a) => harness::merge::cli(a),
     };
     match result {
         Ok(code) => code,
