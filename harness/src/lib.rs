@@ -7,8 +7,11 @@
 
 pub mod compare;
 pub mod corpus;
+pub mod gate;
+pub mod merge;
 pub mod metrics;
 pub mod records;
 pub mod report;
 pub mod run;
 pub mod runners;
+pub mod shard;

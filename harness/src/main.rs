@@ -23,6 +23,12 @@ enum Command {
     Report(harness::report::ReportArgs),
     /// Run, then report: records in OUT/run, the report in OUT (default reports/latest).
     Compare(harness::compare::CompareArgs),
+    /// Compare our rows of a run with the committed baseline; exit 1 on a regression.
+    Gate(harness::gate::GateArgs),
+    /// Append a run's per-mesher summary to the nightly history (reports/history.csv).
+    History(harness::report::history::HistoryArgs),
+    /// Combine the shard directories of one run (`run --shard K/N`) into one.
+    Merge(harness::merge::MergeArgs),
 }
 
 fn main() -> std::process::ExitCode {
@@ -31,6 +37,9 @@ fn main() -> std::process::ExitCode {
         Command::Run(a) => harness::runners::cli(a),
         Command::Report(a) => harness::report::cli(a),
         Command::Compare(a) => harness::compare::cli(a),
+        Command::Gate(a) => harness::gate::cli(a),
+        Command::History(a) => harness::report::history::cli(a),
+        Command::Merge(a) => harness::merge::cli(a),
     };
     match result {
         Ok(code) => code,

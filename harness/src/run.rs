@@ -6,7 +6,8 @@
 //! run ends in one [`Record`] appended to `OUT/results.jsonl` and `OUT/results.csv`
 //! (rewritten atomically after each row). A missing peer, a crash, a timeout or an
 //! unreadable output is a row with a status, never an abort. `--resume` skips pairs
-//! already recorded.
+//! already recorded. `--shard K/N` runs a deterministic slice of the models
+//! ([`crate::shard`]); every run writes `OUT/run.json` ([`RunMeta`]) for `harness merge`.
 //!
 //! Models come from [`models`]: explicit `--input` files, else the corpus tier through
 //! the small adapter `corpus_models` (`harness::corpus`: manifest, selection,
@@ -15,6 +16,7 @@
 use crate::metrics::{self, InputMeasures};
 use crate::records::{self, Record, Status};
 use crate::runners::{registry, RunArgs, RunError, RunOutput, RunRequest, Runner};
+use crate::shard::{self, RunMeta};
 use anyhow::Context;
 use mesher::Surface;
 use std::collections::HashSet;
@@ -37,6 +39,9 @@ pub struct Model {
     pub triangles: usize,
     /// Why the model's file could not be provided (rows get a status instead of a run).
     pub error: Option<String>,
+    /// SHA-256 of the file (the manifest's for corpus models), for the run's corpus
+    /// checksum.
+    pub sha256: String,
 }
 
 /// The models to run: the `--input` files, else the corpus tier selection, filtered by
@@ -55,6 +60,8 @@ pub fn models(args: &RunArgs) -> anyhow::Result<Vec<Model>> {
                 category: "unknown".into(),
                 triangles: mesher::io::read_surface(p).map_or(0, |r| r.surface.triangles.len()),
                 error: None,
+                sha256: std::fs::read(p)
+                    .map_or_else(|_| String::new(), |b| crate::corpus::sha256_hex(&b)),
             })
             .collect()
     } else {
@@ -102,6 +109,7 @@ fn corpus_models(tier: &str) -> anyhow::Result<Vec<Model>> {
                 category: kebab(&format!("{:?}", m.category)),
                 triangles: m.triangles,
                 error,
+                sha256: m.sha256.clone(),
             }
         })
         .collect())
@@ -152,13 +160,22 @@ pub fn cli(args: RunArgs) -> anyhow::Result<ExitCode> {
 /// Runs every selected model × mesher into `args.out` (or a stamped folder under
 /// `reports/runs`) and returns that folder (absolute).
 pub fn execute(args: &RunArgs) -> anyhow::Result<PathBuf> {
-    let models = models(args)?;
-    let slow_ok = slow_models(&models, args.limit_slow);
+    let all_models = models(args)?;
     let runners = select_runners(&args.meshers)?;
     let out = args.out.clone().unwrap_or_else(default_out_dir);
     std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
     // Peers run in their own work directories: every path handed to them is absolute.
     let out = std::path::absolute(&out).with_context(|| format!("resolving {}", out.display()))?;
+    let meta = run_meta(args, &all_models, &runners);
+    meta.write(&out)
+        .with_context(|| format!("writing {}", out.join(shard::META_NAME).display()))?;
+    // The slow peers' smallest models are chosen over the whole run, so a shard skips
+    // exactly what the unsharded run would.
+    let slow_ok = slow_models(&all_models, args.limit_slow);
+    let models = match args.shard {
+        Some(k) => shard::slice(all_models, k, |m| (m.id.as_str(), m.triangles)),
+        None => all_models,
+    };
     let mut rows = if args.resume {
         records::read_jsonl(&out.join("results.jsonl")).context("reading results.jsonl")?
     } else {
@@ -171,6 +188,7 @@ pub fn execute(args: &RunArgs) -> anyhow::Result<PathBuf> {
         .map(|r| (r.model.clone(), r.mesher.clone()))
         .collect();
     let ctx = Context_::new(Duration::from_secs_f64(args.timeout.max(0.001)));
+    let mut progress = Progress::new(&models, &runners, &done);
     for model in &models {
         let todo: Vec<&dyn Runner> = runners
             .iter()
@@ -180,6 +198,7 @@ pub fn execute(args: &RunArgs) -> anyhow::Result<PathBuf> {
         if todo.is_empty() {
             continue;
         }
+        progress.start_model(&model.id);
         let prepared = prepare(model);
         for runner in todo {
             let work = out.join("work").join(&model.id).join(runner.info().id);
@@ -188,7 +207,13 @@ pub fn execute(args: &RunArgs) -> anyhow::Result<PathBuf> {
             } else {
                 run_one(&ctx, model, &prepared, runner, &work)
             };
-            eprintln!("{:<24} {:<14} {}", model.id, row.mesher, summary_line(&row));
+            eprintln!(
+                "{} {:<24} {:<14} {}",
+                progress.step(),
+                model.id,
+                row.mesher,
+                summary_line(&row)
+            );
             rows.push(row);
             records::write_all(&out, &rows).context("writing results")?;
             if !args.keep_meshes {
@@ -198,6 +223,83 @@ pub fn execute(args: &RunArgs) -> anyhow::Result<PathBuf> {
     }
     eprintln!("harness run: {} records in {}", rows.len(), out.display());
     Ok(out)
+}
+
+/// Progress of a run on stderr: pairs done / to do, the model being meshed, elapsed time.
+struct Progress {
+    total: usize,
+    done: usize,
+    models: usize,
+    model: usize,
+    start: std::time::Instant,
+}
+
+impl Progress {
+    fn new(
+        models: &[Model],
+        runners: &[Box<dyn Runner>],
+        done: &HashSet<(String, String)>,
+    ) -> Progress {
+        let total = models
+            .iter()
+            .flat_map(|m| {
+                runners
+                    .iter()
+                    .map(move |r| (m.id.clone(), r.info().id.to_string()))
+            })
+            .filter(|pair| !done.contains(pair))
+            .count();
+        if !done.is_empty() {
+            eprintln!(
+                "harness run: resuming, {} pairs already recorded, {total} to do",
+                done.len()
+            );
+        }
+        Progress {
+            total,
+            done: 0,
+            models: models.len(),
+            model: 0,
+            start: std::time::Instant::now(),
+        }
+    }
+
+    fn start_model(&mut self, id: &str) {
+        self.model += 1;
+        let (m, n, t) = (self.model, self.models, self.elapsed());
+        eprintln!("harness run: model {m}/{n} {id} (elapsed {t})");
+    }
+
+    /// `[done/total elapsed]` after one more pair.
+    fn step(&mut self) -> String {
+        self.done += 1;
+        format!("[{}/{} {}]", self.done, self.total, self.elapsed())
+    }
+
+    fn elapsed(&self) -> String {
+        let s = self.start.elapsed().as_secs();
+        format!("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60)
+    }
+}
+
+/// What identifies this run (`run.json`): computed over the whole run, before sharding.
+fn run_meta(args: &RunArgs, models: &[Model], runners: &[Box<dyn Runner>]) -> RunMeta {
+    RunMeta {
+        harness_version: env!("CARGO_PKG_VERSION").into(),
+        git_revision: git_revision(),
+        corpus: if args.input.is_empty() {
+            args.corpus.clone()
+        } else {
+            vec!["input".into()]
+        },
+        corpus_checksum: shard::corpus_checksum(
+            models.iter().map(|m| (m.id.as_str(), m.sha256.as_str())),
+        ),
+        models: models.iter().map(|m| m.id.clone()).collect(),
+        meshers: runners.iter().map(|r| r.info().id.to_string()).collect(),
+        shard: args.shard.map(|k| k.to_string()),
+        merged_from: Vec::new(),
+    }
 }
 
 /// The row of a slow peer left out by `--limit-slow`.

@@ -1,6 +1,8 @@
 //! `harness run` end to end: rows for a missing peer and a real one, CSV and JSONL
 //! written, `--resume` skipping finished pairs.
 
+mod common;
+
 use std::process::Command;
 
 fn harness(args: &[&str]) -> std::process::Output {
@@ -110,6 +112,7 @@ fn limit_slow_keeps_the_smallest_models_of_each_clean_tier() {
         category: "convex".into(),
         triangles,
         error: None,
+        sha256: String::new(),
     };
     let models = [
         model("a", "ci", 500),
@@ -174,6 +177,7 @@ fn an_empty_output_is_not_ok() {
 /// measured like any peer; ours keeps the input triangles and the volume.
 #[test]
 fn boundary_meshes_of_ours_and_tetgen() {
+    common::ensure_mesher_binary();
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("ball.off");
     mesher::io::write_surface(&input, &mesher::surface::generate::icosphere(2)).unwrap();

@@ -38,6 +38,16 @@ pub enum CorpusAction {
         /// Only these model ids (default: every model of the tier).
         models: Vec<String>,
     },
+    /// Adds the surface files under DIR to the local manifest (corpus/local.toml,
+    /// git-ignored) with checksums and Surface::check() tiers: `local` when clean, `dirty`
+    /// otherwise. Run them with `harness run --corpus local`.
+    Import {
+        /// Directory of surface files (.off, .obj, .stl, .mesh), searched recursively.
+        dir: PathBuf,
+        /// The local manifest to write (default: corpus/local.toml).
+        #[arg(long)]
+        manifest: Option<PathBuf>,
+    },
     /// Midpoint subdivision (each triangle into 4, planar) until >= N triangles.
     Refine {
         /// Model id, or a surface file.
@@ -65,6 +75,10 @@ pub fn cli(args: CorpusArgs) -> anyhow::Result<ExitCode> {
             triangles,
             out,
         } => refine(&root, &model, triangles, &out),
+        CorpusAction::Import { dir, manifest } => {
+            let manifest = manifest.unwrap_or_else(|| super::import::local_manifest_path(&root));
+            import(&root, &dir, &manifest)
+        }
     }
 }
 
@@ -86,6 +100,33 @@ fn list(root: &Path, tier: &str) -> anyhow::Result<ExitCode> {
             m.source
         );
     }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn import(root: &Path, dir: &Path, manifest: &Path) -> anyhow::Result<ExitCode> {
+    let done = super::import::import(root, dir, manifest)?;
+    let mut refused = 0;
+    for i in &done {
+        match &i.model {
+            Ok(m) => println!(
+                "{:<30} {:<6} {:>9} tri  {:<40} {}",
+                m.id,
+                m.tier.to_string(),
+                m.triangles,
+                i.defects,
+                i.path.display()
+            ),
+            Err(e) => {
+                refused += 1;
+                println!("{:<30} ERROR {e}", i.path.display());
+            }
+        }
+    }
+    eprintln!(
+        "harness corpus import: {} model(s) in {}; {refused} file(s) unreadable",
+        done.len() - refused,
+        manifest.display()
+    );
     Ok(ExitCode::SUCCESS)
 }
 

@@ -2,12 +2,12 @@
 //! into [`Model`]s, plus tier selection.
 
 use super::CorpusError;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::path::Path;
 
 /// The tier of a model: which runs include it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Deserialize, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Tier {
     /// Clean, under ~15k triangles: runs in CI.
@@ -18,10 +18,12 @@ pub enum Tier {
     Large,
     /// Defective inputs: a mesher should refuse them.
     Dirty,
+    /// A user's clean model from `corpus/local.toml` (`harness corpus import`).
+    Local,
 }
 
 /// What a model exercises.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Deserialize, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Category {
     /// Convex solid.
@@ -42,6 +44,8 @@ pub enum Category {
     NonManifold,
     /// Faces crossing other faces.
     SelfIntersecting,
+    /// A user's model (`harness corpus import`), not classified further.
+    User,
 }
 
 /// Where a model's surface comes from.
@@ -60,6 +64,8 @@ pub enum Source {
     Combine(Vec<(String, bool)>),
     /// `refine:MODEL@N`: midpoint subdivision of another model to at least N triangles.
     Refine(String, usize),
+    /// `file:PATH`: a user's file outside the cache (`corpus/local.toml`), used in place.
+    Local(String),
 }
 
 impl Source {
@@ -74,6 +80,7 @@ impl Source {
             "cgal" => Source::Cgal(rest),
             "netgen" => Source::Netgen(rest),
             "gmsh" => Source::Gmsh(rest),
+            "file" => Source::Local(rest),
             "generated" => Source::Generated(rest),
             "combine" => Source::Combine(
                 rest.split('+')
@@ -91,9 +98,13 @@ impl Source {
         })
     }
 
-    /// True for files that come from a Debian package (fetched, not built here).
+    /// True for files that come from a Debian package (fetched, not built here) or from
+    /// the user (`file:`): looked up and verified, never written.
     pub fn is_fetched(&self) -> bool {
-        matches!(self, Source::Cgal(_) | Source::Netgen(_) | Source::Gmsh(_))
+        matches!(
+            self,
+            Source::Cgal(_) | Source::Netgen(_) | Source::Gmsh(_) | Source::Local(_)
+        )
     }
 }
 
@@ -112,6 +123,7 @@ impl fmt::Display for Source {
                 write!(f, "combine:{}", parts.join("+"))
             }
             Source::Refine(id, n) => write!(f, "refine:{id}@{n}"),
+            Source::Local(p) => write!(f, "file:{p}"),
         }
     }
 }
@@ -123,6 +135,7 @@ impl fmt::Display for Tier {
             Tier::Nightly => "nightly",
             Tier::Large => "large",
             Tier::Dirty => "dirty",
+            Tier::Local => "local",
         })
     }
 }
@@ -139,6 +152,7 @@ impl fmt::Display for Category {
             Category::Open => "open",
             Category::NonManifold => "non-manifold",
             Category::SelfIntersecting => "self-intersecting",
+            Category::User => "user",
         })
     }
 }
@@ -172,13 +186,13 @@ impl Model {
 }
 
 /// The manifest as written.
-#[derive(Deserialize)]
+#[derive(Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 struct RawManifest {
     model: Vec<RawModel>,
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 struct RawModel {
     id: String,
@@ -190,6 +204,26 @@ struct RawModel {
     licence: String,
     #[serde(default)]
     note: String,
+}
+
+/// Manifest text for `models` (the format [`parse_manifest`] reads).
+pub fn to_manifest_text(models: &[Model]) -> Result<String, toml::ser::Error> {
+    let raw = RawManifest {
+        model: models
+            .iter()
+            .map(|m| RawModel {
+                id: m.id.clone(),
+                source: m.source.to_string(),
+                sha256: m.sha256.clone(),
+                triangles: m.triangles,
+                tier: m.tier,
+                category: m.category,
+                licence: m.licence.clone(),
+                note: m.note.clone(),
+            })
+            .collect(),
+    };
+    toml::to_string(&raw)
 }
 
 /// Parses manifest text; `path` names it in errors. Ids must be unique, sources valid,
@@ -252,10 +286,11 @@ fn check_references(models: &[Model]) -> Result<(), String> {
 }
 
 /// The tier names accepted by [`select`].
-pub const TIER_SELECTIONS: &[&str] = &["ci", "nightly", "large", "dirty", "all"];
+pub const TIER_SELECTIONS: &[&str] = &["ci", "nightly", "large", "dirty", "local", "all"];
 
 /// The models of a tier selection: `ci`, `nightly` (ci + nightly), `large`, `dirty`,
-/// `all`; an unknown name selects nothing.
+/// `local` (a user's clean models, `corpus/local.toml`), `all`; an unknown name selects
+/// nothing.
 pub fn select<'a>(models: &'a [Model], tier: &str) -> Vec<&'a Model> {
     models
         .iter()
@@ -264,6 +299,7 @@ pub fn select<'a>(models: &'a [Model], tier: &str) -> Vec<&'a Model> {
             "nightly" => matches!(m.tier, Tier::Ci | Tier::Nightly),
             "large" => m.tier == Tier::Large,
             "dirty" => m.tier == Tier::Dirty,
+            "local" => m.tier == Tier::Local,
             "all" => true,
             _ => false,
         })

@@ -23,6 +23,7 @@ pub fn cache_path(repo_root: &Path, model: &Model) -> PathBuf {
         Source::Cgal(p) => cache.join("cgal").join(p),
         Source::Netgen(p) => cache.join("netgen").join(p),
         Source::Gmsh(p) => cache.join("gmsh").join(p),
+        Source::Local(p) => PathBuf::from(p),
         _ => cache.join("generated").join(format!("{}.off", model.id)),
     }
 }

@@ -7,10 +7,12 @@
 //!
 //! Submodules: [`manifest`] (types, parsing, tiers), [`materialize`] (cache paths,
 //! checksums, writing generated models), [`generate`] (our own surfaces and midpoint
-//! refinement), `cli` (list, check, refine).
+//! refinement), [`import`] (a user's own models into the git-ignored
+//! `corpus/local.toml`), `cli` (list, check, refine, import).
 
 mod cli;
 pub mod generate;
+pub mod import;
 pub mod manifest;
 pub mod materialize;
 
@@ -76,8 +78,25 @@ pub fn manifest_path(repo_root: &Path) -> PathBuf {
     repo_root.join("corpus").join("manifest.toml")
 }
 
-/// Reads and validates `corpus/manifest.toml` under `repo_root`.
+/// Reads and validates `corpus/manifest.toml` under `repo_root`, plus the user's
+/// `corpus/local.toml` when there is one ([`import`]); ids must be unique across both.
 pub fn load_manifest(repo_root: &Path) -> Result<Vec<Model>> {
+    let mut models = load_shared_manifest(repo_root)?;
+    let local_path = import::local_manifest_path(repo_root);
+    for m in import::load_local(&local_path)? {
+        if models.iter().any(|s| s.id == m.id) {
+            return Err(CorpusError::Manifest {
+                path: local_path,
+                msg: format!("model id {:?} is also in corpus/manifest.toml", m.id),
+            });
+        }
+        models.push(m);
+    }
+    Ok(models)
+}
+
+/// Reads and validates `corpus/manifest.toml` alone (the committed corpus).
+pub fn load_shared_manifest(repo_root: &Path) -> Result<Vec<Model>> {
     let path = manifest_path(repo_root);
     let text = std::fs::read_to_string(&path).map_err(|e| CorpusError::Io {
         path: path.clone(),

@@ -133,6 +133,14 @@ pub fn page(run: &RunData, plots: &[Plot], out: &Path) -> String {
         }
         s += "</div>\n";
     }
+    let trends: Vec<&Plot> = plots.iter().filter(|p| p.kind == PlotKind::Trend).collect();
+    if !trends.is_empty() {
+        s += "<h2>Nightly trends</h2>\n<div class=\"plots\">\n";
+        for p in trends {
+            s += &img(p);
+        }
+        s += "</div>\n";
+    }
     for m in 0..run.models.len() {
         s += &model_section(run, plots, m);
     }

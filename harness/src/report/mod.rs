@@ -2,7 +2,8 @@
 //!
 //! `harness report RUN_DIR [--out DIR]` reads `RUN_DIR/results.jsonl` only (it never runs
 //! a mesher) and writes `table.md`, `table.tex`, one SVG and one PNG per plot and
-//! `index.html`.
+//! `index.html`; with `--history FILE` also the nightly trend plots ([`trend`], from
+//! [`history`]).
 //! Lines that do not parse as a [`Record`] are skipped with a warning naming the line, so
 //! a report still comes out of a run written by an older or newer harness.
 //!
@@ -11,10 +12,12 @@
 //! each into an SVG and a PNG, [`html`] writes the page.
 
 pub mod data;
+pub mod history;
 pub mod html;
 pub mod plots;
 pub mod render;
 pub mod table;
+pub mod trend;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -29,6 +32,9 @@ pub struct ReportArgs {
     /// Where to write the report (default: the run directory).
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// A nightly history (`reports/history.csv`): adds its trend plots to the report.
+    #[arg(long)]
+    pub history: Option<PathBuf>,
 }
 
 /// Why a report could not be written.
@@ -82,6 +88,15 @@ pub(crate) fn write_file(path: &Path, text: &str) -> Result<(), ReportError> {
 
 /// Reads `run_dir/results.jsonl` and writes the whole report into `out`.
 pub fn write_report(run_dir: &Path, out: &Path) -> Result<ReportFiles, ReportError> {
+    write_report_with(run_dir, out, None)
+}
+
+/// [`write_report`], plus the trend plots of a nightly history when one is given.
+pub fn write_report_with(
+    run_dir: &Path,
+    out: &Path,
+    history: Option<&Path>,
+) -> Result<ReportFiles, ReportError> {
     let jsonl = run_dir.join("results.jsonl");
     let loaded = load_records(&jsonl)?;
     if loaded.records.is_empty() {
@@ -99,7 +114,10 @@ pub fn write_report(run_dir: &Path, out: &Path) -> Result<ReportFiles, ReportErr
     let tex = out.join("table.tex");
     write_file(&tex, &table::latex(&run))?;
     files.push(tex);
-    let plots = plots::write_all(&run, out)?;
+    let mut plots = plots::write_all(&run, out)?;
+    if let Some(h) = history {
+        plots.extend(trend::write_all(&history::read(h)?, out)?);
+    }
     files.extend(
         plots
             .iter()
@@ -117,7 +135,7 @@ pub fn write_report(run_dir: &Path, out: &Path) -> Result<ReportFiles, ReportErr
 /// `harness report`.
 pub fn cli(args: ReportArgs) -> anyhow::Result<ExitCode> {
     let out = args.out.clone().unwrap_or_else(|| args.run_dir.clone());
-    let report = write_report(&args.run_dir, &out)?;
+    let report = write_report_with(&args.run_dir, &out, args.history.as_deref())?;
     for w in &report.warnings {
         eprintln!("harness report: warning: {w}");
     }

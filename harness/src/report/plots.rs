@@ -44,6 +44,8 @@ pub enum PlotKind {
     /// Front convergence of one model (ours): front size, points proposed and inserted
     /// per iteration.
     Front,
+    /// One measure per mesher over the nightly history ([`crate::report::trend`]).
+    Trend,
 }
 
 /// One written plot.

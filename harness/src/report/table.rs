@@ -218,42 +218,17 @@ fn status_counts(run: &RunData, k: usize) -> String {
 }
 
 fn summary_row(run: &RunData, k: usize) -> Vec<String> {
-    let limited = |r: &Record| {
-        run.models
-            .iter()
-            .find(|m| m.id == r.model)
-            .is_some_and(|m| m.surface_limited())
-    };
-    let worst = |fine_only: bool| {
-        run.ok_records(k)
-            .filter(|r| !(fine_only && limited(r)))
-            .filter_map(|r| r.quality.as_ref().map(|q| q.worst_q_k))
-            .fold(None, |a: Option<f64>, x| Some(a.map_or(x, |a| a.max(x))))
-    };
-    let (mut good, mut count, mut tets, mut wall) = (0u64, 0u64, 0f64, 0f64);
-    let mut rss: Option<u64> = None;
-    for r in run.ok_records(k) {
-        if let Some(q) = &r.quality {
-            good += q.well_shaped;
-            count += q.count;
-        }
-        if let (Some(t), Some(_)) = (r.tets, tets_per_second(r)) {
-            tets += t as f64;
-            wall += r.wall_seconds.unwrap_or(0.0);
-        }
-        rss = rss.max(r.peak_rss_bytes);
-    }
+    let s = crate::report::history::summarize(run, k);
     vec![
         mesher_label(run, k),
         status_counts(run, k),
-        opt(worst(true), fmt_q),
-        opt(worst(false), fmt_q),
-        opt(
-            (count > 0).then(|| 100.0 * good as f64 / count as f64),
-            |v| format!("{v:.2}"),
-        ),
-        opt((wall > 0.0).then(|| tets / wall), fmt_rate),
-        opt(rss, |b| format!("{:.0}", b as f64 / (1024.0 * 1024.0))),
+        opt(s.worst_q_k_fine, fmt_q),
+        opt(s.worst_q_k_all, fmt_q),
+        opt(s.well_shaped_percent, |v| format!("{v:.2}")),
+        opt(s.tets_per_second, fmt_rate),
+        opt(s.peak_rss_bytes, |b| {
+            format!("{:.0}", b as f64 / (1024.0 * 1024.0))
+        }),
     ]
 }
 

@@ -187,6 +187,10 @@ pub struct RunArgs {
     /// of each clean tier, and on no dirty model; their other rows are `skipped`.
     #[arg(long, value_name = "N")]
     pub limit_slow: Option<usize>,
+    /// Run only shard K of N (1-based): a deterministic slice of the models, balanced by
+    /// input size; combine the shards with `harness merge`.
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<crate::shard::Shard>,
 }
 
 /// `harness run`.

@@ -88,3 +88,25 @@ pub fn corpus_cache_present() -> bool {
     }
     present
 }
+
+/// `cargo test -p harness` does not build the `mesher` binary that the `ours` runners
+/// call (only `cargo test --workspace` does): build it once (test profile, into the
+/// target/debug folder where the runners look), serialised across the tests of a file.
+/// Panics if it does not build: our own binary must.
+pub fn ensure_mesher_binary() {
+    static LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    if harness::runners::ours::mesher_binary().is_file() {
+        return;
+    }
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let status = std::process::Command::new(cargo)
+        .args(["build", "--quiet", "-p", "mesher", "--bin", "mesher"])
+        .args(["--profile", "test"])
+        .status()
+        .unwrap();
+    assert!(
+        status.success(),
+        "cargo build -p mesher --bin mesher failed"
+    );
+}
