@@ -57,12 +57,13 @@ impl Recovery {
 
     /// Removes the interior Steiner point `s`: the cone from a neighbour, else edge
     /// removals at `s` (each lowers its degree) until a cone works; bounded. The flips
-    /// made on a failed attempt are undone.
+    /// made on a failed attempt stay: each is a checked, valid change that keeps every
+    /// lock (the undo journal cannot replay a chain of flips that re-use tet slots).
     pub fn remove_steiner(&mut self, s: u32) -> bool {
         if self.remove_vertex(s) {
             return true;
         }
-        let mark = self.l.mark();
+        self.l.forget();
         for _ in 0..MAX_DEGREE_FLIPS {
             let mut star = Vec::new();
             self.l.star(s, &mut star);
@@ -93,8 +94,6 @@ impl Recovery {
                 return true;
             }
         }
-        self.l.undo(mark);
-        self.l.forget();
         false
     }
 
