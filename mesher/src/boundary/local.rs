@@ -89,6 +89,13 @@ impl Local {
         l
     }
 
+    /// Rebuilds the vertex-to-tet map after the mesh was changed directly (not through
+    /// [`Local::replace`]), e.g. by the Delaunay kernel. Drops the undo journal.
+    pub fn refresh(&mut self) {
+        self.forget();
+        self.rebuild_v2t();
+    }
+
     fn rebuild_v2t(&mut self) {
         self.v2t = vec![u32::MAX; self.mesh.num_vertices()];
         for t in self.mesh.tets() {

@@ -7,8 +7,10 @@
 //! Steiner points (the "interior Steiner points preferred" strategy of George,
 //! Borouchaki and Saltel, "'Ultimate' robustness in meshing an arbitrary polyhedron",
 //! IJNME 2003): when an entity stays stuck after the flips, a point is placed off the
-//! surface on each side of it, at a fraction of its length, and the boundary mesh is
-//! rebuilt with those points among the Delaunay vertices. Points that end up outside
+//! surface on each side of it, at a fraction of its length, and those points go into
+//! the recovered mesh by the constrained Delaunay kernel (`insert`; a rebuild from
+//! scratch is the fallback), then the next pass recovers what is still missing. Points
+//! that end up outside
 //! the domain disappear with the outside; the others are reported. Only when interior
 //! points fail is a stuck edge split at a point exactly on it (`split`), which keeps the
 //! boundary of T(S,F) the input surface as a point set; such points are reported and
@@ -17,13 +19,15 @@
 //! Entry point: [`boundary_mesh`] -> ([`BoundaryMesh`], [`BoundaryReport`]) or a typed
 //! [`BoundaryError`] that names the entity and where it is.
 //!
-//! Submodules: `local` (vertex-to-tet map, rings, the checked `replace`), `flips` (2-3,
+//! Submodules: `local` (vertex-to-tet map, rings, the checked `replace`), `insert` (the
+//! incremental Steiner rounds), `flips` (2-3,
 //! edge removal by ring re-triangulation), `recover` (segment and face recovery),
 //! `domain` (flood fill, regions, volumes), `split` (boundary Steiner points),
 //! `suppress` (taking Steiner points out again).
 
 mod domain;
 pub(crate) mod flips;
+mod insert;
 pub(crate) mod local;
 mod recover;
 mod split;
@@ -75,6 +79,9 @@ pub struct BoundaryOptions {
     /// interior rounds; they stop early after [`STALLED_SPLIT_ROUNDS`] rounds without
     /// fewer stuck entities than the best so far.
     pub split_rounds: usize,
+    /// Insert a round's Steiner points into the mesh of the previous round by the
+    /// constrained kernel (`insert`) instead of rebuilding the mesh from scratch.
+    pub incremental: bool,
 }
 
 impl Default for BoundaryOptions {
@@ -87,6 +94,7 @@ impl Default for BoundaryOptions {
             steiner_offset: 0.3,
             check_input: true,
             split_rounds: 8,
+            incremental: true,
         }
     }
 }
@@ -246,45 +254,63 @@ pub fn boundary_mesh(
     let mut work = Refined::new(surface);
     let mut edges = input_edges(&work.surface);
     let mut steiner_points: Vec<Point> = Vec::new();
+    // Steiner points chosen since the last round (for an incremental round).
+    let mut fresh: Vec<Point> = Vec::new();
     let mut best: (usize, Vec<Point>, Vec<Entity>) = (usize::MAX, Vec::new(), Vec::new());
     let mut stuck = Vec::new();
     let rounds = options.steiner_rounds + options.split_rounds;
     // Fewest stuck entities seen in a split round, and rounds since it last dropped.
     let mut split_best = (usize::MAX, 0);
     let mut rounds_done = 0;
+    let mut previous: Option<Round> = None;
     for round in 0..=rounds {
         rounds_done = round;
         let t1 = Instant::now();
-        let (mesh, surface_vertex, steiner) = delaunay(&work.surface, &steiner_points, options)?;
+        let reuse = match previous.as_mut() {
+            Some(r) if options.incremental => r.extend(&work, &fresh),
+            _ => false,
+        };
+        let mut cur = match previous.take() {
+            Some(r) if reuse => r,
+            _ => Round::rebuild(&work.surface, &steiner_points, options)?,
+        };
+        fresh.clear();
         report.time_delaunay += t1.elapsed().as_secs_f64();
         let t2 = Instant::now();
-        let mut rec = Recovery::new(Local::new(mesh));
         let bad;
         (stuck, bad) = recover_all(
-            &mut rec,
+            &mut cur.rec,
             &work.surface,
             &edges,
-            &surface_vertex,
+            &cur.sv,
             options,
             &mut report,
             round,
         )?;
-        // Steiner points found exactly on an input entity are dropped.
+        // Steiner points found exactly on an input entity are dropped; the mesh that
+        // has them is not reused.
         steiner_points.retain(|p| !bad.contains(p));
-        report.flips = add(report.flips, rec.flips);
+        let reusable = bad.is_empty();
+        report.flips = add(report.flips, std::mem::take(&mut cur.rec.flips));
         report.time_recovery += t2.elapsed().as_secs_f64();
+        debug_round(round, &stuck, &work, steiner_points.len(), t0);
         if stuck.is_empty() {
             report.steiner_rounds = round;
             let t3 = Instant::now();
-            suppress_splits(&mut rec, &mut work, &surface_vertex, &mut report);
+            let Round {
+                mut rec,
+                sv,
+                steiner,
+            } = cur;
+            suppress_splits(&mut rec, &mut work, &sv, &mut report);
             let mut steiner = steiner;
             steiner.extend(rec.steiner.iter().map(|&v| VertexId(v)));
             suppress(&mut rec, &mut steiner, &mut report);
-            let bm = finish(rec, &work, surface_vertex, steiner, &mut report)?;
+            let bm = finish(rec, &work, sv, steiner, &mut report)?;
             report.time_domain = t3.elapsed().as_secs_f64();
             return Ok((bm, report));
         }
-        if round < options.steiner_rounds {
+        if round < options.steiner_rounds && !options.incremental {
             // Keep the Steiner set that left the fewest entities stuck; a worse round
             // is reverted and retried with points closer to the entities.
             if stuck.len() < best.0 {
@@ -297,7 +323,7 @@ pub fn boundary_mesh(
         if round + 1 < options.steiner_rounds {
             let scale = options.steiner_offset / (1 << round.min(30)) as f64;
             for s in &stuck {
-                steiner_points.extend(steiner_for(&work.surface, *s, scale, round));
+                fresh.extend(steiner_for(&work.surface, *s, scale, round));
             }
         } else if round < rounds {
             if stuck.len() < split_best.0 {
@@ -315,12 +341,14 @@ pub fn boundary_mesh(
                     Entity::Edge(a, b, _) => {
                         work.split_edge(a, b);
                     }
-                    Entity::Face(_) => {
-                        steiner_points.extend(steiner_for(&work.surface, *s, 0.05, round))
-                    }
+                    Entity::Face(_) => fresh.extend(steiner_for(&work.surface, *s, 0.05, round)),
                 }
             }
             edges = input_edges(&work.surface);
+        }
+        steiner_points.extend_from_slice(&fresh);
+        if reusable {
+            previous = Some(cur);
         }
     }
     Err(BoundaryError::Unrecovered {
@@ -337,6 +365,67 @@ pub fn boundary_mesh(
             .first()
             .map_or_else(String::new, |e| describe(&work.surface, *e)),
     })
+}
+
+/// The mesh of one recovery round, with the mesh vertex of every refined surface
+/// vertex and the interior Steiner points inserted so far.
+struct Round {
+    rec: Recovery,
+    sv: Vec<VertexId>,
+    steiner: Vec<VertexId>,
+}
+
+impl Round {
+    /// A fresh Delaunay mesh of the refined surface and the Steiner points.
+    fn rebuild(
+        surface: &Surface,
+        steiner_points: &[Point],
+        options: &BoundaryOptions,
+    ) -> Result<Round, BoundaryError> {
+        let (mesh, sv, steiner) = delaunay(surface, steiner_points, options)?;
+        Ok(Round {
+            rec: Recovery::new(Local::new(mesh)),
+            sv,
+            steiner,
+        })
+    }
+
+    /// Inserts the split points the refined surface gained since this round and the
+    /// `fresh` interior Steiner points into the recovered mesh (see `insert`). False
+    /// when a split point was rejected: the mesh no longer matches the refined surface
+    /// and must be rebuilt.
+    fn extend(&mut self, work: &Refined, fresh: &[Point]) -> bool {
+        let splits = &work.surface.vertices[self.sv.len().min(work.surface.vertices.len())..];
+        let mut points = splits.to_vec();
+        points.extend_from_slice(fresh);
+        let got = self.rec.insert_points(&points);
+        let (on_edges, interior) = got.split_at(splits.len());
+        if on_edges.iter().any(Option::is_none) {
+            return false;
+        }
+        self.sv
+            .extend(on_edges.iter().flatten().map(|&v| VertexId(v)));
+        self.steiner
+            .extend(interior.iter().flatten().map(|&v| VertexId(v)));
+        true
+    }
+}
+
+/// With `MESHER_DEBUG` set, one line per recovery round on stderr.
+fn debug_round(round: usize, stuck: &[Entity], work: &Refined, steiner: usize, t0: Instant) {
+    if std::env::var_os("MESHER_DEBUG").is_none() {
+        return;
+    }
+    let edges = stuck
+        .iter()
+        .filter(|s| matches!(s, Entity::Edge(..)))
+        .count();
+    eprintln!(
+        "boundary round {round}: {} stuck ({edges} edges), {steiner} Steiner points, {} splits, {:.3} s",
+        stuck.len(),
+        work.splits.len(),
+        t0.elapsed().as_secs_f64()
+    );
 }
 
 /// Tries to take every split point out again, newest first (which undoes the splits of
