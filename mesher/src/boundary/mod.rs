@@ -293,7 +293,7 @@ pub fn boundary_mesh(
         let reusable = bad.is_empty();
         report.flips = add(report.flips, std::mem::take(&mut cur.rec.flips));
         report.time_recovery += t2.elapsed().as_secs_f64();
-        debug_round(round, &stuck, &work, steiner_points.len(), t0);
+        debug_round(round, reuse, &stuck, &work, steiner_points.len(), t0);
         if stuck.is_empty() {
             report.steiner_rounds = round;
             let t3 = Instant::now();
@@ -412,7 +412,14 @@ impl Round {
 }
 
 /// With `MESHER_DEBUG` set, one line per recovery round on stderr.
-fn debug_round(round: usize, stuck: &[Entity], work: &Refined, steiner: usize, t0: Instant) {
+fn debug_round(
+    round: usize,
+    reused: bool,
+    stuck: &[Entity],
+    work: &Refined,
+    steiner: usize,
+    t0: Instant,
+) {
     if std::env::var_os("MESHER_DEBUG").is_none() {
         return;
     }
@@ -421,7 +428,8 @@ fn debug_round(round: usize, stuck: &[Entity], work: &Refined, steiner: usize, t
         .filter(|s| matches!(s, Entity::Edge(..)))
         .count();
     eprintln!(
-        "boundary round {round}: {} stuck ({edges} edges), {steiner} Steiner points, {} splits, {:.3} s",
+        "boundary round {round} ({}): {} stuck ({edges} edges), {steiner} Steiner points, {} splits, {:.3} s",
+        if reused { "incremental" } else { "rebuilt" },
         stuck.len(),
         work.splits.len(),
         t0.elapsed().as_secs_f64()
