@@ -7,7 +7,6 @@
 use crate::boundary::{boundary_mesh, BoundaryError, BoundaryOptions, BoundaryReport};
 use crate::delaunay::Constraints;
 use crate::front::{advance, FieldMesh, FrontError, FrontParams, FrontReport, Iteration};
-use crate::geom::Point;
 use crate::optimize::{optimize, Domain, OptimizeOptions, OptimizeReport};
 use crate::quality::length::normalized_length;
 use crate::quality::summary::{unique_tet_edges, unique_triangle_edges};
@@ -277,40 +276,11 @@ impl Meshed {
 
     /// [`Self::to_volume_mesh`] and the size at each of its vertices.
     pub fn volume_and_sizes(&self) -> (VolumeMesh, Vec<f64>) {
-        let mut index = vec![u32::MAX; self.mesh.num_vertices()];
-        let mut vertices: Vec<Point> = Vec::with_capacity(self.mesh.num_vertices());
-        let mut sizes = Vec::with_capacity(self.mesh.num_vertices());
-        for v in self.surface_vertex.iter().chain(&self.boundary_steiner) {
-            index[v.index()] = vertices.len() as u32;
-            vertices.push(self.mesh.point(*v));
-            sizes.push(self.h[v.index()]);
-        }
-        let mut tets = Vec::new();
-        let mut tet_refs = Vec::new();
-        for t in self.domain_tets() {
-            let tv = self.mesh.tet(t).map(|v| {
-                if index[v.index()] == u32::MAX {
-                    index[v.index()] = vertices.len() as u32;
-                    vertices.push(self.mesh.point(v));
-                    sizes.push(self.h[v.index()]);
-                }
-                index[v.index()]
-            });
-            tets.push(tv);
-            tet_refs.push(self.region[t.index()] as i32);
-        }
-        let vm = VolumeMesh {
-            vertices,
-            tets,
-            tet_refs,
-            triangles: self
-                .faces
-                .iter()
-                .map(|f| f.map(|v| index[v.index()]))
-                .collect(),
-            triangle_refs: vec![1; self.faces.len()],
-            vertex_sizes: None,
-        };
+        let mut first = self.surface_vertex.clone();
+        first.extend_from_slice(&self.boundary_steiner);
+        let (vm, origin) =
+            crate::volume::export_domain(&self.mesh, &self.region, &first, &self.faces);
+        let sizes = origin.iter().map(|v| self.h[v.index()]).collect();
         (vm, sizes)
     }
 

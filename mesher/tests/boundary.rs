@@ -8,11 +8,11 @@
 use mesher::boundary::{boundary_mesh, BoundaryError, BoundaryOptions, BoundaryReport};
 use mesher::geom::predicates::{orient3d, Orientation};
 use mesher::geom::Point;
-use mesher::io::read_surface;
 use mesher::surface::generate::{cube, icosphere, torus};
 use mesher::Surface;
-use std::collections::HashMap;
-use std::path::PathBuf;
+
+mod common;
+use common::{boundary_faces, corpus, sorted_triangles};
 
 /// Builds T(S,F) and checks every property the issue asks for.
 fn recover(name: &str, s: &Surface) -> BoundaryReport {
@@ -24,25 +24,8 @@ fn recover(name: &str, s: &Surface) -> BoundaryReport {
     let vm = bm.to_volume_mesh();
     // Boundary faces of the domain (faces of exactly one domain tet) = the faces listed
     // as the boundary.
-    let mut count: HashMap<[u32; 3], u32> = HashMap::new();
-    for t in &vm.tets {
-        for f in [
-            [t[1], t[2], t[3]],
-            [t[0], t[2], t[3]],
-            [t[0], t[1], t[3]],
-            [t[0], t[1], t[2]],
-        ] {
-            *count.entry(sorted(f)).or_default() += 1;
-        }
-    }
-    let mut boundary: Vec<[u32; 3]> = count
-        .into_iter()
-        .filter(|e| e.1 == 1)
-        .map(|e| e.0)
-        .collect();
-    let mut listed: Vec<[u32; 3]> = vm.triangles.iter().map(|t| sorted(*t)).collect();
-    boundary.sort_unstable();
-    listed.sort_unstable();
+    let boundary = boundary_faces(&vm);
+    let listed = sorted_triangles(&vm.triangles);
     assert_eq!(
         boundary, listed,
         "{name}: the domain's boundary is not its faces"
@@ -51,10 +34,9 @@ fn recover(name: &str, s: &Surface) -> BoundaryReport {
     assert_eq!(&vm.vertices[..s.vertices.len()], &s.vertices[..], "{name}");
     if r.steiner_on_edges == 0 {
         // No split left: the faces are exactly the input triangles.
-        let mut input: Vec<[u32; 3]> = s.triangles.iter().map(|t| sorted(*t)).collect();
-        input.sort_unstable();
         assert_eq!(
-            listed, input,
+            listed,
+            sorted_triangles(&s.triangles),
             "{name}: the boundary is not the input surface"
         );
     } else {
@@ -78,11 +60,6 @@ fn recover(name: &str, s: &Surface) -> BoundaryReport {
         r.enclosed_volume
     );
     r
-}
-
-fn sorted(mut f: [u32; 3]) -> [u32; 3] {
-    f.sort_unstable();
-    f
 }
 
 /// A triangular prism whose top is turned by `twist` degrees, its side quads split by
@@ -202,29 +179,6 @@ fn defects_are_named_before_recovery() {
     let mut s = icosphere(1);
     s.vertices[3].x = f64::NAN;
     assert!(boundary_mesh(&s, &BoundaryOptions::default()).is_err());
-}
-
-fn corpus(rel: &str) -> Option<Surface> {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../corpus/cache")
-        .join(rel);
-    if !p.is_file() {
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "{} missing: run scripts/fetch-corpus.sh",
-            p.display()
-        );
-        eprintln!(
-            "skipped: {} missing (run scripts/fetch-corpus.sh)",
-            p.display()
-        );
-        return None;
-    }
-    Some(
-        read_surface(&p)
-            .unwrap_or_else(|e| panic!("{rel}: {e}"))
-            .surface,
-    )
 }
 
 /// Models recovered today, with their number of material regions; the ones that once

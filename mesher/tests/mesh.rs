@@ -7,12 +7,12 @@
 
 use mesher::front::{FrontParams, Remedial};
 use mesher::geom::Point;
-use mesher::io::read_surface;
 use mesher::quality::signed_volume;
 use mesher::surface::generate::{cube, icosphere, torus};
-use mesher::{mesh, Meshed, Params, Report, SizeSpec, Surface, VolumeMesh};
-use std::collections::HashMap;
-use std::path::PathBuf;
+use mesher::{mesh, Meshed, Params, Report, SizeSpec, Surface};
+
+mod common;
+use common::{boundary_faces, corpus, sorted_triangles};
 
 /// Meshes `s` and checks every property; returns the mesh and the report.
 fn check(name: &str, s: &Surface, params: &Params) -> (Meshed, Report) {
@@ -42,43 +42,6 @@ fn check(name: &str, s: &Surface, params: &Params) -> (Meshed, Report) {
         assert!(o.worst_after <= o.worst_before, "{name}: {o:?}");
     }
     (m, r)
-}
-
-/// Faces of exactly one tet, sorted.
-fn boundary_faces(vm: &VolumeMesh) -> Vec<[u32; 3]> {
-    let mut count: HashMap<[u32; 3], u32> = HashMap::new();
-    for t in &vm.tets {
-        for f in [
-            [t[1], t[2], t[3]],
-            [t[0], t[2], t[3]],
-            [t[0], t[1], t[3]],
-            [t[0], t[1], t[2]],
-        ] {
-            let mut f = f;
-            f.sort_unstable();
-            *count.entry(f).or_default() += 1;
-        }
-    }
-    let mut b: Vec<[u32; 3]> = count
-        .into_iter()
-        .filter(|e| e.1 == 1)
-        .map(|e| e.0)
-        .collect();
-    b.sort_unstable();
-    b
-}
-
-fn sorted_triangles(t: &[[u32; 3]]) -> Vec<[u32; 3]> {
-    let mut v: Vec<[u32; 3]> = t
-        .iter()
-        .map(|t| {
-            let mut t = *t;
-            t.sort_unstable();
-            t
-        })
-        .collect();
-    v.sort_unstable();
-    v
 }
 
 #[test]
@@ -212,29 +175,6 @@ fn same_input_same_bytes() {
         files.push(std::fs::read(&p).unwrap());
     }
     assert_eq!(files[0], files[1]);
-}
-
-fn corpus(rel: &str) -> Option<Surface> {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../corpus/cache")
-        .join(rel);
-    if !p.is_file() {
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "{} missing: run scripts/fetch-corpus.sh",
-            p.display()
-        );
-        eprintln!(
-            "skipped: {} missing (run scripts/fetch-corpus.sh)",
-            p.display()
-        );
-        return None;
-    }
-    Some(
-        read_surface(&p)
-            .unwrap_or_else(|e| panic!("{rel}: {e}"))
-            .surface,
-    )
 }
 
 #[test]

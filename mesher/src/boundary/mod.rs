@@ -874,40 +874,8 @@ impl BoundaryMesh {
     /// region; the boundary faces (the input triangles, or their pieces; the input
     /// triangle of each is in [`BoundaryMesh::face_parent`]).
     pub fn to_volume_mesh(&self) -> VolumeMesh {
-        let mut index = vec![u32::MAX; self.mesh.num_vertices()];
-        let mut vertices = Vec::with_capacity(self.surface_vertex.len() + self.steiner.len());
-        for v in self.surface_vertex.iter().chain(&self.boundary_steiner) {
-            index[v.index()] = vertices.len() as u32;
-            vertices.push(self.mesh.point(*v));
-        }
-        let mut tets = Vec::new();
-        let mut tet_refs = Vec::new();
-        for t in self.mesh.finite_tets() {
-            let r = self.region[t.index()];
-            if r == 0 {
-                continue;
-            }
-            let tv = self.mesh.tet(t).map(|v| {
-                if index[v.index()] == u32::MAX {
-                    index[v.index()] = vertices.len() as u32;
-                    vertices.push(self.mesh.point(v));
-                }
-                index[v.index()]
-            });
-            tets.push(tv);
-            tet_refs.push(r as i32);
-        }
-        VolumeMesh {
-            vertices,
-            tets,
-            tet_refs,
-            triangles: self
-                .faces
-                .iter()
-                .map(|f| f.map(|v| index[v.index()]))
-                .collect(),
-            triangle_refs: vec![1; self.faces.len()],
-            vertex_sizes: None,
-        }
+        let mut first = self.surface_vertex.clone();
+        first.extend_from_slice(&self.boundary_steiner);
+        crate::volume::export_domain(&self.mesh, &self.region, &first, &self.faces).0
     }
 }
