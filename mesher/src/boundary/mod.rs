@@ -305,7 +305,8 @@ pub fn boundary_mesh(
             suppress_splits(&mut rec, &mut work, &sv, &mut report);
             let mut steiner = steiner;
             steiner.extend(rec.steiner.iter().map(|&v| VertexId(v)));
-            suppress(&mut rec, &mut steiner, &mut report);
+            let inside = inside_vertices(&rec, &work, &sv)?;
+            suppress(&mut rec, &mut steiner, &inside, &mut report);
             let bm = finish(rec, &work, sv, steiner, &mut report)?;
             report.time_domain = t3.elapsed().as_secs_f64();
             return Ok((bm, report));
@@ -461,16 +462,50 @@ fn suppress_splits(
 /// Tries to take every interior Steiner point out again (paper §4.2's "remove or
 /// relocate"): the ones that are not needed go. Removing one can free another, so
 /// passes repeat while one removes some.
-fn suppress(rec: &mut Recovery, steiner: &mut Vec<VertexId>, report: &mut BoundaryReport) {
+fn suppress(
+    rec: &mut Recovery,
+    steiner: &mut Vec<VertexId>,
+    inside: &[bool],
+    report: &mut BoundaryReport,
+) {
     let before = steiner.len();
     for _ in 0..4 {
         let n = steiner.len();
-        steiner.retain(|v| !rec.remove_steiner(v.0));
+        // A point outside the domain goes with the outside: no work for it.
+        steiner.retain(|v| {
+            !inside.get(v.index()).copied().unwrap_or(false) || !rec.remove_steiner(v.0)
+        });
         if steiner.len() == n {
             break;
         }
     }
     report.steiner_removed = before - steiner.len();
+}
+
+/// Which mesh vertices touch the domain (a tet of a material region), found by the
+/// domain identification of `finish` on the mesh as it is.
+fn inside_vertices(
+    rec: &Recovery,
+    work: &Refined,
+    sv: &[VertexId],
+) -> Result<Vec<bool>, BoundaryError> {
+    let mesh_tris: Vec<[u32; 3]> = work
+        .surface
+        .triangles
+        .iter()
+        .map(|t| t.map(|i| sv[i as usize].0))
+        .collect();
+    let marks = rec.l.triangle_faces(&mesh_tris);
+    let regions = domain::identify(&rec.l.mesh, &marks)?;
+    let mut inside = vec![false; rec.l.mesh.num_vertices()];
+    for t in rec.l.mesh.finite_tets() {
+        if regions.region[t.index()] != 0 {
+            for v in rec.l.mesh.tet(t) {
+                inside[v.index()] = true;
+            }
+        }
+    }
+    Ok(inside)
 }
 
 /// A stuck input entity (input vertex / triangle ids).

@@ -39,16 +39,20 @@ impl Recovery {
         nbrs.sort_unstable();
         nbrs.dedup();
         for u in nbrs {
+            // Checked before anything is built: most neighbours fail on an early face.
+            let sees_all = link
+                .iter()
+                .filter(|f| !f.contains(&u))
+                .all(|f| self.l.orient(f[0], f[1], f[2], u) == Orientation::Positive);
+            if !sees_all {
+                continue;
+            }
             let new: Vec<[u32; 4]> = link
                 .iter()
                 .filter(|f| !f.contains(&u))
                 .map(|f| [f[0], f[1], f[2], u])
                 .collect();
-            if new
-                .iter()
-                .all(|t| self.l.orient(t[0], t[1], t[2], t[3]) == Orientation::Positive)
-                && self.l.replace(&star, &new).is_ok()
-            {
+            if self.l.replace(&star, &new).is_ok() {
                 return true;
             }
         }
