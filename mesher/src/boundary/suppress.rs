@@ -9,7 +9,11 @@
 //!   into two parts (one on each side of the surface), and each part is the cone from
 //!   one of its own vertices that sees all its faces, or else from a new point in its
 //!   kernel, an interior Steiner point (outside the domain, on the outer side, it
-//!   disappears with the outside). The surface is then unsplit there.
+//!   disappears with the outside). When no point sees a part (the split point is off
+//!   its edge by rounding on a flat part of the surface, so that part is slivers that
+//!   vanish), the part grows outside the star, across the faces a candidate apex does
+//!   not see, until a vertex sees it all: the cone of the segment recovery, applied to
+//!   a side. The surface is then unsplit there.
 
 use super::flips::{remove_edge, Choice};
 use super::local::GHOST;
@@ -17,6 +21,9 @@ use super::recover::Recovery;
 
 /// Edge removals at a Steiner point before its removal is given up.
 const MAX_DEGREE_FLIPS: usize = 8;
+
+/// Tets a side of a split point's star may take in from outside the star.
+const MAX_SIDE_GROWTH: usize = 256;
 use crate::geom::predicates::{orient3d, Orientation};
 use crate::geom::Point;
 use crate::tetmesh::{FaceRef, FACE_VERTICES};
@@ -126,6 +133,7 @@ impl Recovery {
             return false;
         };
         let mut new: Vec<[u32; 4]> = Vec::new();
+        let mut old = star.clone();
         let mut added = Vec::new();
         for side in &sides {
             let Some(mut faces) = self.link(m, side) else {
@@ -160,7 +168,17 @@ impl Recovery {
                         added.push(v);
                         v
                     }
-                    None => return self.give_up(&added),
+                    None => {
+                        // No point sees the side (a split point off its edge by
+                        // rounding, on a flat part of the surface): the side grows
+                        // outside the star until one of its vertices sees it all.
+                        let Some((extra, cone)) = self.grown_side(m, side, &faces[n - 2..]) else {
+                            return self.give_up(&added);
+                        };
+                        old.extend(extra);
+                        new.extend(cone);
+                        continue;
+                    }
                 },
             };
             new.extend(
@@ -170,9 +188,18 @@ impl Recovery {
                     .map(|f| [f[0], f[1], f[2], apex]),
             );
         }
-        if self.l.replace(&star, &new).is_err() {
+        let locked = self.locked_in(&old, m);
+        let mark = self.l.mark();
+        if self.l.replace(&old, &new).is_err() {
+            self.l.forget();
             return self.give_up(&added);
         }
+        if !locked.iter().all(|&(x, y)| self.has_edge(x, y)) {
+            self.l.undo(mark);
+            self.l.forget();
+            return self.give_up(&added);
+        }
+        self.l.forget();
         self.steiner.extend(&added);
         for f in cut {
             self.locks.faces.remove(&f);
@@ -184,6 +211,117 @@ impl Recovery {
         self.locks.faces.insert(sorted([u, w, c]));
         self.locks.faces.insert(sorted([u, w, d]));
         true
+    }
+
+    /// One side of the star of split point `m` grown outside the star: starting from
+    /// the side's tets, every boundary face that the candidate apex does not see brings
+    /// in the tet behind it (never across a locked face or into the hull), as in the
+    /// cone of the segment recovery. The apex is tried among the vertices of the tets
+    /// next to the side. Returns the tets added and the cone (with the `cut` faces, the
+    /// unsplit triangles seen from this side).
+    fn grown_side(
+        &self,
+        m: u32,
+        side: &[u32],
+        cut: &[[u32; 3]],
+    ) -> Option<(Vec<u32>, Vec<[u32; 4]>)> {
+        let mut candidates: Vec<u32> = Vec::new();
+        for &t in side {
+            for a in self.l.adj(t) {
+                let u = FaceRef::from_raw(a).tet().0;
+                if !side.contains(&u) && !self.l.is_ghost(u) {
+                    candidates.extend(self.l.tet(u));
+                }
+            }
+        }
+        candidates.retain(|&v| v != m && v != GHOST);
+        candidates.sort_unstable();
+        candidates.dedup();
+        candidates
+            .into_iter()
+            .find_map(|apex| self.grow_from(m, side, cut, apex))
+    }
+
+    /// [`Recovery::grown_side`] for one apex.
+    fn grow_from(
+        &self,
+        m: u32,
+        side: &[u32],
+        cut: &[[u32; 3]],
+        apex: u32,
+    ) -> Option<(Vec<u32>, Vec<[u32; 4]>)> {
+        if cut.iter().any(|f| {
+            !f.contains(&apex) && self.l.orient(f[0], f[1], f[2], apex) != Orientation::Positive
+        }) {
+            return None;
+        }
+        let mut region: Vec<u32> = side.to_vec();
+        let mut extra: Vec<u32> = Vec::new();
+        let mut k = 0;
+        while k < region.len() {
+            if region.len() > MAX_SIDE_GROWTH + side.len() {
+                return None;
+            }
+            let t = region[k];
+            k += 1;
+            let v = self.l.tet(t);
+            let adj = self.l.adj(t);
+            for i in 0..4 {
+                let f = FACE_VERTICES[i].map(|j| v[j]);
+                let u = FaceRef::from_raw(adj[i]).tet().0;
+                if f.contains(&m) || f.contains(&apex) || region.contains(&u) {
+                    continue;
+                }
+                if self.l.orient(f[0], f[1], f[2], apex) == Orientation::Positive {
+                    continue;
+                }
+                if self.locks.face(f) || self.l.is_ghost(u) || side_of_star(self, u, m) {
+                    return None;
+                }
+                region.push(u);
+                extra.push(u);
+            }
+        }
+        let mut cone: Vec<[u32; 4]> = Vec::new();
+        for &t in &region {
+            let v = self.l.tet(t);
+            let adj = self.l.adj(t);
+            for i in 0..4 {
+                let f = FACE_VERTICES[i].map(|j| v[j]);
+                let u = FaceRef::from_raw(adj[i]).tet().0;
+                if !f.contains(&m) && !f.contains(&apex) && !region.contains(&u) {
+                    cone.push([f[0], f[1], f[2], apex]);
+                }
+            }
+        }
+        cone.extend(
+            cut.iter()
+                .filter(|f| !f.contains(&apex))
+                .map(|f| [f[0], f[1], f[2], apex]),
+        );
+        // Every vertex of the region but `m` stays: the apex or on a face of the cone.
+        let kept = region
+            .iter()
+            .flat_map(|&t| self.l.tet(t))
+            .all(|x| x == m || x == apex || cone.iter().any(|c| c[..3].contains(&x)));
+        kept.then_some((extra, cone))
+    }
+
+    /// Locked edges of the tets `region` that do not end at `m`.
+    fn locked_in(&self, region: &[u32], m: u32) -> Vec<(u32, u32)> {
+        let mut out = Vec::new();
+        for &t in region {
+            let v = self.l.tet(t);
+            for (i, j) in [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)] {
+                let (x, y) = (v[i], v[j]);
+                if x != m && y != m && self.locks.edge(x, y) {
+                    out.push((x, y));
+                }
+            }
+        }
+        out.sort_unstable();
+        out.dedup();
+        out
     }
 
     /// The star of `m` split in two by the faces `cut`: the tets reachable from the
@@ -285,4 +423,9 @@ impl Recovery {
 fn sorted(mut f: [u32; 3]) -> [u32; 3] {
     f.sort_unstable();
     f
+}
+
+/// True when tet `t` has vertex `m` (it is in the star of `m`, on the other side).
+fn side_of_star(r: &Recovery, t: u32, m: u32) -> bool {
+    r.l.tet(t).contains(&m)
 }
