@@ -40,4 +40,16 @@ started=$SECONDS
 $H run --corpus nightly --out "$out/run" "${resume[@]}" "${extra[@]}"
 $H history "$out/run" --history reports/history.csv --date "$date"
 $H report "$out/run" --out "$out" --history reports/history.csv >/dev/null
+# A PNG of the report (headless Chromium, when installed), to look at without a browser.
+chromium_bin="$(command -v chromium || command -v chromium-browser || true)"
+if [ -n "$chromium_bin" ]; then
+  profile="$(mktemp -d)"
+  timeout 180 "$chromium_bin" --headless --no-sandbox --disable-gpu \
+    --disable-background-networking --disable-component-update --disable-sync \
+    --no-first-run --hide-scrollbars --window-size=1400,"${NIGHTLY_PNG_HEIGHT:-9000}" \
+    --user-data-dir="$profile" --screenshot="$root/$out/index.png" \
+    "file://$root/$out/index.html" >/dev/null 2>&1 ||
+    echo "nightly: chromium wrote no screenshot" >&2
+  rm -rf "$profile"
+fi
 echo "nightly: $((SECONDS - started)) s; open $out/index.html" >&2

@@ -71,7 +71,7 @@ impl Recovery {
     /// made on a failed attempt stay: each is a checked, valid change that keeps every
     /// lock (the undo journal cannot replay a chain of flips that re-use tet slots).
     pub fn remove_steiner(&mut self, s: u32) -> bool {
-        if self.remove_vertex(s) {
+        if self.remove_vertex(s) || self.remove_grown(s) {
             return true;
         }
         self.l.forget();
@@ -100,12 +100,37 @@ impl Recovery {
             if !removed {
                 break;
             }
-            if self.remove_vertex(s) {
+            if self.remove_vertex(s) || self.remove_grown(s) {
                 self.l.forget();
                 return true;
             }
         }
         false
+    }
+
+    /// Removes vertex `s` by the cone from a vertex near it over its star grown across
+    /// the faces that vertex does not see (see [`Recovery::grown_side`]).
+    fn remove_grown(&mut self, s: u32) -> bool {
+        let mut star = Vec::new();
+        self.l.star(s, &mut star);
+        if star.is_empty() || star.iter().any(|&t| self.l.is_ghost(t)) {
+            return false;
+        }
+        let Some((extra, cone)) = self.grown_side(s, &star, &[]) else {
+            return false;
+        };
+        let mut old = star;
+        old.extend(extra);
+        let locked = self.locked_in(&old, s);
+        let mark = self.l.mark();
+        let done = self.l.replace(&old, &cone).is_ok();
+        if done && !locked.iter().all(|&(x, y)| self.has_edge(x, y)) {
+            self.l.undo(mark);
+            self.l.forget();
+            return false;
+        }
+        self.l.forget();
+        done
     }
 
     /// The faces of the star of `s` opposite `s`, seen from inside the star.
