@@ -27,6 +27,7 @@ const MAX_SIDE_GROWTH: usize = 256;
 use crate::geom::predicates::{orient3d, Orientation};
 use crate::geom::Point;
 use crate::tetmesh::{FaceRef, FACE_VERTICES};
+use crate::FastSet;
 
 impl Recovery {
     /// Removes vertex `s` (a Steiner point, on no constrained entity): its star is
@@ -251,10 +252,11 @@ impl Recovery {
         cut: &[[u32; 3]],
     ) -> Option<(Vec<u32>, Vec<[u32; 4]>)> {
         let mut candidates: Vec<u32> = Vec::new();
+        let in_side: FastSet<u32> = side.iter().copied().collect();
         for &t in side {
             for a in self.l.adj(t) {
                 let u = FaceRef::from_raw(a).tet().0;
-                if !side.contains(&u) && !self.l.is_ghost(u) {
+                if !in_side.contains(&u) && !self.l.is_ghost(u) {
                     candidates.extend(self.l.tet(u));
                 }
             }
@@ -281,6 +283,7 @@ impl Recovery {
             return None;
         }
         let mut region: Vec<u32> = side.to_vec();
+        let mut member: FastSet<u32> = side.iter().copied().collect();
         let mut extra: Vec<u32> = Vec::new();
         let mut k = 0;
         while k < region.len() {
@@ -294,7 +297,7 @@ impl Recovery {
             for i in 0..4 {
                 let f = FACE_VERTICES[i].map(|j| v[j]);
                 let u = FaceRef::from_raw(adj[i]).tet().0;
-                if f.contains(&m) || f.contains(&apex) || region.contains(&u) {
+                if f.contains(&m) || f.contains(&apex) || member.contains(&u) {
                     continue;
                 }
                 if self.l.orient(f[0], f[1], f[2], apex) == Orientation::Positive {
@@ -303,6 +306,7 @@ impl Recovery {
                 if self.locks.face(f) || self.l.is_ghost(u) || side_of_star(self, u, m) {
                     return None;
                 }
+                member.insert(u);
                 region.push(u);
                 extra.push(u);
             }
@@ -314,7 +318,7 @@ impl Recovery {
             for i in 0..4 {
                 let f = FACE_VERTICES[i].map(|j| v[j]);
                 let u = FaceRef::from_raw(adj[i]).tet().0;
-                if !f.contains(&m) && !f.contains(&apex) && !region.contains(&u) {
+                if !f.contains(&m) && !f.contains(&apex) && !member.contains(&u) {
                     cone.push([f[0], f[1], f[2], apex]);
                 }
             }
