@@ -473,7 +473,7 @@ impl Recovery {
                 out.push(t);
             }
         }
-        let mut seen: std::collections::HashSet<u32> = out.iter().copied().collect();
+        let mut seen: FastSet<u32> = out.iter().copied().collect();
         let mut k = 0;
         while k < out.len() {
             if out.len() > MAX_MET {
@@ -675,7 +675,7 @@ impl Recovery {
             let ring = self.l.ring(tri[k], tri[(k + 1) % 3], &mut self.scratch)?;
             todo.extend(ring.iter().map(|r| r.0));
         }
-        let mut seen: std::collections::HashSet<u32> = todo.iter().copied().collect();
+        let mut seen: FastSet<u32> = todo.iter().copied().collect();
         let mut edges: Vec<(u32, u32)> = Vec::new();
         let mut tets: Vec<u32> = Vec::new();
         // Side of the triangle's plane per vertex, computed once.
