@@ -170,6 +170,11 @@ pub struct BoundaryReport {
     pub time_recovery: f64,
     /// Seconds: domain identification.
     pub time_domain: f64,
+    /// Recovery attempts (a second one, with rebuilding rounds, when the first leaves
+    /// entities stuck; the other fields describe the successful one).
+    pub attempts: usize,
+    /// Seconds of all attempts together (0 when there was one).
+    pub seconds_all_attempts: f64,
 }
 
 /// Why no boundary mesh was built. Every variant names the entity and where it is.
@@ -231,11 +236,42 @@ pub enum BoundaryError {
 }
 
 /// Builds T(S,F) for a closed surface.
+///
+/// The recovery's outcome on hard surfaces (long thin coplanar triangles) hangs on many
+/// small choices; when the incremental rounds leave entities stuck, the recovery is run
+/// once more with the rebuilding rounds, and the first success is kept (the report
+/// counts the attempts). The error of the first attempt is returned when both fail.
 pub fn boundary_mesh(
     surface: &Surface,
     options: &BoundaryOptions,
 ) -> Result<(BoundaryMesh, BoundaryReport), BoundaryError> {
+    let t0 = Instant::now();
+    let first = match boundary_attempt(surface, options) {
+        Err(e @ BoundaryError::Unrecovered { .. }) if options.incremental => e,
+        other => return other,
+    };
+    let again = BoundaryOptions {
+        incremental: false,
+        check_input: false,
+        ..options.clone()
+    };
+    match boundary_attempt(surface, &again) {
+        Ok((bm, mut report)) => {
+            report.attempts = 2;
+            report.seconds_all_attempts = t0.elapsed().as_secs_f64();
+            Ok((bm, report))
+        }
+        Err(_) => Err(first),
+    }
+}
+
+/// One recovery with the given options.
+fn boundary_attempt(
+    surface: &Surface,
+    options: &BoundaryOptions,
+) -> Result<(BoundaryMesh, BoundaryReport), BoundaryError> {
     let mut report = BoundaryReport {
+        attempts: 1,
         surface_vertices: surface.vertices.len(),
         surface_triangles: surface.triangles.len(),
         ..BoundaryReport::default()
