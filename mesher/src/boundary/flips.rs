@@ -110,8 +110,13 @@ pub(crate) fn remove_edge(
     // Ring is counter-clockwise seen from y: tets [pi, pj, pk, y] and [pj, pi, pk, x].
     let valid = |i: usize, j: usize, k: usize| -> f64 {
         let (a, b, c) = (pts[i], pts[j], pts[k]);
-        let q1 = shape(a, b, c, py);
-        let q2 = shape(b, a, c, px);
+        // The signs first: most triangles of a ring fail one, and the shape is dearer.
+        let (v1, v2) = (volume6(a, b, c, py), volume6(b, a, c, px));
+        if v1 <= 0.0 || v2 <= 0.0 {
+            return -1.0;
+        }
+        let q1 = shape_of(v1, a, b, c, py);
+        let q2 = shape_of(v2, b, a, c, px);
         if q1 > 0.0 && q2 > 0.0 {
             q1.min(q2)
         } else {
@@ -146,10 +151,18 @@ pub(crate) fn remove_edge(
     Ok(())
 }
 
-/// A scale-free shape measure of tet `abcd`: positive iff its volume (inexact) is, 1
-/// for the regular tet. Exact validity is checked by `replace`; this only ranks.
-fn shape(a: Point, b: Point, c: Point, d: Point) -> f64 {
-    let v = (b - a).dot((c - a).cross(d - a)) / 6.0;
+/// Six times the signed volume of tet `abcd` (inexact).
+#[inline]
+fn volume6(a: Point, b: Point, c: Point, d: Point) -> f64 {
+    (b - a).dot((c - a).cross(d - a))
+}
+
+/// A scale-free shape measure of tet `abcd`, from six times its volume `v6`: positive
+/// iff its volume (inexact) is, 1 for the regular tet. Exact validity is checked by
+/// `replace`; this only ranks.
+#[inline]
+fn shape_of(v6: f64, a: Point, b: Point, c: Point, d: Point) -> f64 {
+    let v = v6 / 6.0;
     let s = [b - a, c - a, d - a, c - b, d - b, d - c]
         .iter()
         .map(|e| e.length_squared())
