@@ -14,6 +14,7 @@ pub mod delaunay;
 pub mod front;
 pub mod geom;
 pub mod io;
+pub mod limit;
 pub mod mesh;
 pub mod optimize;
 pub mod quality;

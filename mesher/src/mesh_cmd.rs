@@ -2,10 +2,11 @@
 //! progress bar over the front iterations, writes the mesh, the statistics JSON and a
 //! summary line.
 
-use super::{Length, MeshArgs, RemedialArg};
+use super::{Length, MeshArgs, RemedialArg, TimeLimitArg};
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use mesher::front::Remedial;
+use mesher::limit::TimeLimitAction;
 use mesher::sizing::LengthMode;
 use mesher::{MeshError, Params, SizeSpec};
 use std::process::ExitCode;
@@ -57,8 +58,12 @@ pub fn mesh(args: &MeshArgs) -> Result<ExitCode> {
         v["iterations"] = serde_json::to_value(&report.front.iterations)?;
         v["quality"] = serde_json::to_value(&summary)?;
         v["edges"] = serde_json::to_value(&band)?;
-        std::fs::write(path, serde_json::to_string_pretty(&v)? + "\n")
+        let json = serde_json::to_string_pretty(&v)? + "\n";
+        mesher::io::write_with(path, |w| std::io::Write::write_all(w, json.as_bytes()))
             .with_context(|| format!("writing {}", path.display()))?;
+    }
+    if let Some(phase) = &report.time_limit_hit {
+        eprintln!("mesher: time limit passed after the {phase}; the later phases were skipped");
     }
     eprintln!(
         "mesher: {} vertices, {} tets, {} iterations{}; worst Q_K {:.2} (Q_t {:.2}), {:.1} % Q_K < 3, {:.1} % edges in [0.6, 1.67]; {:.3} s",
@@ -83,6 +88,11 @@ fn params_from(args: &MeshArgs) -> Result<Params> {
     };
     params.optimize_options.max_passes = args.optimize_passes;
     params.front.max_iterations = args.max_iterations;
+    params.time_limit = args.time_limit;
+    params.time_limit_action = match args.time_limit_action {
+        TimeLimitArg::Best => TimeLimitAction::Best,
+        TimeLimitArg::Error => TimeLimitAction::Error,
+    };
     params.front.delta = args.delta;
     params.front.delta_f = args.delta_f;
     params.front.delta_v = args.delta_v;
