@@ -5,14 +5,29 @@
 use super::{Length, MeshArgs, RemedialArg, TimeLimitArg};
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
+use mesher::boundary::BoundaryError;
+use mesher::delaunay::DelaunayError;
 use mesher::front::Remedial;
+use mesher::io::IoError;
 use mesher::limit::TimeLimitAction;
 use mesher::sizing::LengthMode;
 use mesher::{MeshError, Params, SizeSpec};
 use std::process::ExitCode;
 
+/// Exit code of a refused input (unreadable, defective, degenerate): the reason is on
+/// stderr as `mesher: refused: FILE: REASON`. Other errors exit 2.
+const EXIT_REFUSED: u8 = 1;
+
 pub fn mesh(args: &MeshArgs) -> Result<ExitCode> {
-    let read = mesher::io::read_surface(&args.surface)?;
+    let read = match mesher::io::read_surface(&args.surface) {
+        Ok(r) => r,
+        Err(e @ (IoError::Os { .. } | IoError::UnknownFormat { .. })) => return Err(e.into()),
+        // The parse errors name the file and line themselves.
+        Err(e) => {
+            eprintln!("mesher: refused: {e}");
+            return Ok(ExitCode::from(EXIT_REFUSED));
+        }
+    };
     let surface = read.surface;
     let params = params_from(args)?;
     let bar = ProgressBar::new(params.front.max_iterations as u64);
@@ -31,13 +46,7 @@ pub fn mesh(args: &MeshArgs) -> Result<ExitCode> {
     bar.finish_and_clear();
     let (meshed, report) = match result {
         Ok(r) => r,
-        Err(MeshError::Boundary(
-            e @ (mesher::boundary::BoundaryError::Defective { .. }
-            | mesher::boundary::BoundaryError::VertexOnEntity { .. }),
-        )) => {
-            eprintln!("mesher: {}: {e}", args.surface.display());
-            return Ok(ExitCode::from(1));
-        }
+        Err(e) if is_refusal(&e) => return Ok(refuse(args, &e)),
         Err(e) => return Err(e).with_context(|| format!("meshing {}", args.surface.display())),
     };
     if args.validate {
@@ -78,6 +87,30 @@ pub fn mesh(args: &MeshArgs) -> Result<ExitCode> {
         report.time_total
     );
     Ok(ExitCode::SUCCESS)
+}
+
+/// Whether `e` refuses the input (a defect of the surface) rather than a failure of
+/// the mesher.
+fn is_refusal(e: &MeshError) -> bool {
+    matches!(
+        e,
+        MeshError::Boundary(
+            BoundaryError::Defective { .. }
+                | BoundaryError::VertexOnEntity { .. }
+                | BoundaryError::CoincidentVertices { .. }
+                | BoundaryError::Kernel(
+                    DelaunayError::NonFinite { .. }
+                        | DelaunayError::OutOfRange { .. }
+                        | DelaunayError::Degenerate { .. }
+                )
+        )
+    )
+}
+
+/// Prints the refusal and gives its exit code.
+fn refuse(args: &MeshArgs, e: &MeshError) -> ExitCode {
+    eprintln!("mesher: refused: {}: {e}", args.surface.display());
+    ExitCode::from(EXIT_REFUSED)
 }
 
 /// The library parameters from the command line.

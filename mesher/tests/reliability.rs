@@ -179,7 +179,12 @@ fn a_failed_run_leaves_no_output_file() {
     let input = write_surface(&d, "open.off", &s);
     let out = d.join("out.mesh");
     let o = mesher_cli(&["mesh", &input, "-o", out.to_str().unwrap()]);
-    assert!(!o.status.success());
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
     assert!(!out.exists(), "a failed run wrote {}", out.display());
     let left: Vec<_> = std::fs::read_dir(&d)
         .unwrap()
@@ -225,5 +230,52 @@ fn time_limit_on_the_command_line() {
     assert!(!o.status.success(), "{err}");
     assert!(err.contains("time limit"), "{err}");
     assert!(!out.exists());
+    std::fs::remove_dir_all(&d).ok();
+}
+
+#[test]
+fn dirty_inputs_are_refused_with_the_reason() {
+    let d = scratch("dirty");
+    let tet = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n";
+    let cases = [
+        ("empty.off", String::new(), "empty.off"),
+        (
+            "nan.off",
+            tet.replace("0 0 1\n3", "0 0 nan\n3"),
+            "nan.off:6",
+        ),
+        (
+            "one.off",
+            "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n".into(),
+            "defect",
+        ),
+        (
+            "open.off",
+            tet.replace("3 0 3 2\n", "").replace("4 4 0", "4 3 0"),
+            "defect",
+        ),
+        (
+            "flat.off",
+            "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n3 0 1 2\n3 1 3 2\n".into(),
+            "defect",
+        ),
+    ];
+    for (name, text, reason) in cases {
+        let f = d.join(name);
+        std::fs::write(&f, text).unwrap();
+        let o = mesher_cli(&[
+            "mesh",
+            f.to_str().unwrap(),
+            "-o",
+            d.join("x.mesh").to_str().unwrap(),
+        ]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{name}: {err}");
+        assert!(
+            err.contains("refused") && err.contains(reason),
+            "{name}: {err}"
+        );
+        assert!(!d.join("x.mesh").exists());
+    }
     std::fs::remove_dir_all(&d).ok();
 }
