@@ -43,9 +43,8 @@ pub enum DelaunayError {
     /// More tets than the id space holds.
     #[error("too many tets for 32-bit ids")]
     TooManyTets,
-    /// A coordinate is beyond [`MAX_COORDINATE`] in magnitude: the exact predicates
-    /// could overflow there.
-    #[error("point {index} at ({x}, {y}, {z}) is beyond 2^64 in magnitude (the range of the exact predicates)")]
+    /// A coordinate is beyond [`MAX_COORDINATE`] in magnitude.
+    #[error("point {index} at ({x}, {y}, {z}) is beyond 2^64 in magnitude (the supported range)")]
     OutOfRange {
         /// Index of the point in the input (for [`Kernel::insert`], the vertex it would
         /// have been).
@@ -59,9 +58,9 @@ pub enum DelaunayError {
     },
 }
 
-/// The largest coordinate magnitude the kernel accepts, 2^64 (about 1.8e19): within it
-/// the exact insphere and orientation tests cannot overflow (found by fuzzing: points
-/// near 1e300 gave a flat tet).
+/// The largest coordinate magnitude the kernel accepts, 2^64 (about 1.8e19). The exact
+/// predicates decide any finite input, but the constructions of the later stages
+/// (circumcentres, volumes, sizes) overflow near 1e300 (fuzzing fed such points).
 pub const MAX_COORDINATE: f64 = 18_446_744_073_709_551_616.0;
 
 /// Checks that `p` (point `index`) is finite and within [`MAX_COORDINATE`].

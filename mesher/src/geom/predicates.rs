@@ -31,6 +31,8 @@
 use glam::DVec3;
 use robust::{Coord, Coord3D};
 
+#[path = "big.rs"]
+mod big;
 #[path = "fixed.rs"]
 mod fixed;
 
@@ -146,8 +148,13 @@ pub fn orient3d_exact(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> Orientation {
     match fixed::orient3d_sign(a, b, c, d) {
         Some(s) => Orientation::from_f64(s as f64),
         None => {
-            let [a, b, c, d] = rescaled([a, b, c, d]);
-            orient3d_robust(a, b, c, d)
+            let q = rescaled([a, b, c, d]);
+            if robust_exact(&q) {
+                orient3d_robust(q[0], q[1], q[2], q[3])
+            } else {
+                big::orient3d_sign(a, b, c, d)
+                    .map_or(Orientation::Zero, |s| Orientation::from_f64(s as f64))
+            }
         }
     }
 }
@@ -371,8 +378,13 @@ pub fn insphere_exact(a: DVec3, b: DVec3, c: DVec3, d: DVec3, e: DVec3) -> Spher
     match fixed::insphere_sign(a, b, c, d, e) {
         Some(s) => sphere_from_shewchuk(s as f64),
         None => {
-            let [a, b, c, d, e] = rescaled([a, b, c, d, e]);
-            insphere_robust(a, b, c, d, e)
+            let q = rescaled([a, b, c, d, e]);
+            if robust_exact(&q) {
+                insphere_robust(q[0], q[1], q[2], q[3], q[4])
+            } else {
+                big::insphere_sign(a, b, c, d, e)
+                    .map_or(Sphere::On, |s| sphere_from_shewchuk(s as f64))
+            }
         }
     }
 }
@@ -418,6 +430,20 @@ fn rescaled<const N: usize>(p: [DVec3; N]) -> [DVec3; N] {
     } else {
         p
     }
+}
+
+/// Whether `robust` is exact on the (rescaled) points: every coordinate zero or of
+/// magnitude in `[2^-150, 4]`. Then every value its expansions form from degree-5
+/// products is a multiple of `2^(-5 * (150 + 53))`, above the smallest normal double,
+/// and below the largest; else [`big`] decides (NaN and infinities stay with `robust`).
+fn robust_exact<const N: usize>(q: &[DVec3; N]) -> bool {
+    const LO: f64 = 7.006_492_321_624_085e-46; // 2^-150
+    q.iter().all(|v| {
+        !v.is_finite()
+            || v.to_array()
+                .iter()
+                .all(|&x| x == 0.0 || (LO..=4.0).contains(&x.abs()))
+    })
 }
 
 /// Exact insphere by `robust` alone: the reference the faster stages are tested and
