@@ -47,7 +47,9 @@ for t in "${targets[@]}"; do
   cargo +nightly fuzz run -a "$t" "corpus/$t" -- \
     -max_total_time="$secs" -timeout="$timeout_s" -rss_limit_mb="$rss_mb" \
     -artifact_prefix="artifacts/$t/" -print_final_stats=1 >"$log" 2>&1 || rc=$?
-  took=$(($(date +%s) - start))
+  # libFuzzer's own fuzzing time ("Done N runs in S second(s)"); wall time on a finding.
+  took=$(grep -o 'Done [0-9]* runs in [0-9]* second' "$log" | grep -o 'in [0-9]*' | grep -o '[0-9]*' | tail -1)
+  [ -n "$took" ] || took=$(($(date +%s) - start))
   runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' | tail -1)
   [ -n "$runs" ] || runs=$(grep -o '^#[0-9]*' "$log" | tail -1 | tr -d '#')
   if [ "$rc" -eq 0 ]; then
