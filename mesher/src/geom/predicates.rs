@@ -233,12 +233,22 @@ pub fn insphere(a: DVec3, b: DVec3, c: DVec3, d: DVec3, e: DVec3) -> Sphere {
 /// range check); then the exact stages.
 #[inline(never)]
 fn insphere_dynamic(det: f64, diffs: [DVec3; 4], [a, b, c, d, e]: [DVec3; 5]) -> Sphere {
-    let perm = insphere_permanent(diffs);
-    if det > ISP_DYN * perm {
-        return Sphere::Outside;
-    }
-    if -det > ISP_DYN * perm {
-        return Sphere::Inside;
+    // The caller's range check bounds the largest difference per axis only; a smaller
+    // non-zero one can still make products underflow, and then the relative bound does
+    // not hold (fuzzing found a wrong sign with differences near 1e-178 beside 1e-35).
+    let no_underflow = diffs.iter().all(|v| {
+        v.to_array()
+            .iter()
+            .all(|&x| x == 0.0 || x.abs() > FILTER_MIN)
+    });
+    if no_underflow {
+        let perm = insphere_permanent(diffs);
+        if det > ISP_DYN * perm {
+            return Sphere::Outside;
+        }
+        if -det > ISP_DYN * perm {
+            return Sphere::Inside;
+        }
     }
     insphere_exact(a, b, c, d, e)
 }
