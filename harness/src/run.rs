@@ -399,6 +399,10 @@ fn run_one(
         Err(RunError::Missing(m)) => finish(rec, Status::Missing, Some(m)),
         Err(RunError::Io(m)) => finish(rec, Status::InvalidOutput, Some(m)),
         Err(RunError::Failed { message, stats }) => {
+            set_stats(&mut rec, &stats);
+            if let Some(reason) = refusal(info.id, &stats) {
+                return finish(rec, Status::Refused, Some(reason));
+            }
             let status = if stats.timed_out {
                 Status::Timeout
             } else if stats.signal.is_some() {
@@ -406,7 +410,6 @@ fn run_one(
             } else {
                 Status::Failed
             };
-            set_stats(&mut rec, &stats);
             finish(rec, status, Some(message))
         }
     }
@@ -540,6 +543,30 @@ fn blank_record(ctx: &Context_, model: &Model, info: &crate::runners::PeerInfo) 
     }
 }
 
+/// The reason when our mesher refused the input: `mesher mesh` and `mesher boundary`
+/// exit 1 with `mesher: refused: FILE: REASON` (or, for `boundary`, `mesher: FILE:
+/// REASON`) on stderr for unreadable, defective or degenerate input, as opposed to a
+/// failure (exit 2), a crash (signal) or a timeout. Peers have no such convention.
+fn refusal(runner: &str, stats: &crate::runners::ProcessStats) -> Option<String> {
+    if !runner.starts_with("ours") || stats.timed_out || stats.exit_code != Some(1) {
+        return None;
+    }
+    let lines: Vec<&str> = stats.stderr_tail.trim().lines().map(str::trim).collect();
+    let from = lines
+        .iter()
+        .rposition(|l| l.starts_with("mesher: "))
+        .unwrap_or(0);
+    let reason = lines[from..]
+        .iter()
+        .filter(|l| !l.is_empty())
+        .copied()
+        .collect::<Vec<_>>()
+        .join("; ");
+    let reason = reason.strip_prefix("mesher: ").unwrap_or(&reason);
+    let reason = reason.strip_prefix("refused: ").unwrap_or(reason);
+    Some(format!("refused: {reason}"))
+}
+
 fn finish(mut rec: Record, status: Status, message: Option<String>) -> Record {
     rec.status = status;
     rec.message = message;
@@ -624,4 +651,36 @@ pub fn rfc3339_now() -> String {
         rem / 60 % 60,
         rem % 60
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::refusal;
+    use crate::runners::ProcessStats;
+
+    #[test]
+    fn our_exit_1_is_a_refusal_with_its_reason() {
+        let stats = ProcessStats {
+            exit_code: Some(1),
+            stderr_tail:
+                "mesher: refused: open.off: the surface has 1 defect(s)\n  3 boundary edges\n"
+                    .into(),
+            ..ProcessStats::default()
+        };
+        assert_eq!(
+            refusal("ours", &stats).as_deref(),
+            Some("refused: open.off: the surface has 1 defect(s); 3 boundary edges")
+        );
+        assert_eq!(refusal("tetgen", &stats), None);
+        let failed = ProcessStats {
+            exit_code: Some(2),
+            ..stats.clone()
+        };
+        assert_eq!(refusal("ours", &failed), None);
+        let timed_out = ProcessStats {
+            timed_out: true,
+            ..stats
+        };
+        assert_eq!(refusal("ours", &timed_out), None);
+    }
 }

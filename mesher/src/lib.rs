@@ -6,11 +6,15 @@
 //! stages <- CLI. [`surface`], [`io`] and [`quality`] sit beside the kernel: the kernel
 //! never reads files and never computes quality.
 
+// No panic in library code (issue 8): typed errors or infallible forms instead.
+#![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used))]
+
 pub mod boundary;
 pub mod delaunay;
 pub mod front;
 pub mod geom;
 pub mod io;
+pub mod limit;
 pub mod mesh;
 pub mod optimize;
 pub mod quality;

@@ -139,6 +139,20 @@ struct MeshArgs {
     /// Check every adjacency and orientation invariant afterwards.
     #[arg(long)]
     validate: bool,
+    /// Wall-clock limit in seconds, checked between the phases (boundary mesh, front,
+    /// optimisation).
+    #[arg(long)]
+    time_limit: Option<f64>,
+    /// Past --time-limit: write the best valid mesh so far (the later phases skipped), or
+    /// fail with an error and write nothing.
+    #[arg(long, value_enum, default_value_t = TimeLimitArg::Best, requires = "time_limit")]
+    time_limit_action: TimeLimitArg,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum TimeLimitArg {
+    Best,
+    Error,
 }
 
 #[derive(Clone, Copy, ValueEnum)]

@@ -7,6 +7,7 @@
 use crate::boundary::{boundary_mesh, BoundaryError, BoundaryOptions, BoundaryReport};
 use crate::delaunay::Constraints;
 use crate::front::{advance, FieldMesh, FrontError, FrontParams, FrontReport, Iteration};
+use crate::limit::{Deadline, TimeLimitAction};
 use crate::optimize::{optimize, Domain, OptimizeOptions, OptimizeReport};
 use crate::quality::length::normalized_length;
 use crate::quality::summary::{unique_tet_edges, unique_triangle_edges};
@@ -48,6 +49,10 @@ pub struct Params {
     pub optimize: bool,
     /// Its parameters.
     pub optimize_options: OptimizeOptions,
+    /// Wall-clock limit in seconds, checked between the phases.
+    pub time_limit: Option<f64>,
+    /// What happens past the limit: the best valid mesh so far, or an error.
+    pub time_limit_action: TimeLimitAction,
 }
 
 impl Default for Params {
@@ -58,6 +63,8 @@ impl Default for Params {
             size: SizeSpec::default(),
             optimize: true,
             optimize_options: OptimizeOptions::default(),
+            time_limit: None,
+            time_limit_action: TimeLimitAction::default(),
         }
     }
 }
@@ -74,6 +81,16 @@ pub enum MeshError {
     /// The front failed.
     #[error(transparent)]
     Front(#[from] FrontError),
+    /// The time limit passed (with [`TimeLimitAction::Error`]).
+    #[error("time limit of {limit} s passed after the {phase} ({elapsed:.3} s)")]
+    TimeLimit {
+        /// The limit, seconds.
+        limit: f64,
+        /// Seconds elapsed when it was checked.
+        elapsed: f64,
+        /// The last phase done.
+        phase: String,
+    },
 }
 
 /// Counters and timings of one run.
@@ -99,6 +116,8 @@ pub struct Report {
     pub time_optimize: f64,
     /// Seconds: all.
     pub time_total: f64,
+    /// The time limit passed after this phase and the later ones were skipped.
+    pub time_limit_hit: Option<String>,
 }
 
 /// The meshed domain.
@@ -130,6 +149,8 @@ pub fn mesh_with_progress(
     progress: &mut dyn FnMut(&Iteration),
 ) -> Result<(Meshed, Report), MeshError> {
     let t0 = Instant::now();
+    let deadline = Deadline::new(t0, params.time_limit, params.time_limit_action);
+    let mut time_limit_hit = None;
     let (bm, boundary) = boundary_mesh(surface, &params.boundary)?;
     let time_boundary = t0.elapsed().as_secs_f64();
     let t1 = Instant::now();
@@ -143,7 +164,11 @@ pub fn mesh_with_progress(
     let mut fm = field_mesh(bm.mesh, &bm.region, &bm.constrained, field.as_ref());
     let time_sizing = t1.elapsed().as_secs_f64();
     let t2 = Instant::now();
-    let front = advance(&mut fm, field.as_ref(), &params.front, progress)?;
+    let front = if deadline.go_on("boundary mesh", &mut time_limit_hit)? {
+        advance(&mut fm, field.as_ref(), &params.front, progress)?
+    } else {
+        FrontReport::default()
+    };
     let time_front = t2.elapsed().as_secs_f64();
     let mut meshed = Meshed {
         mesh: fm.mesh,
@@ -154,8 +179,7 @@ pub fn mesh_with_progress(
         faces: bm.faces,
     };
     let t3 = Instant::now();
-    let optimize = params
-        .optimize
+    let optimize = (params.optimize && deadline.go_on("front", &mut time_limit_hit)?)
         .then(|| optimize_meshed(&mut meshed, &bm.box_corners, field.as_ref(), params));
     let time_optimize = t3.elapsed().as_secs_f64();
     let tets = meshed.domain_tets().count();
@@ -170,6 +194,7 @@ pub fn mesh_with_progress(
         optimize,
         time_optimize,
         time_total: t0.elapsed().as_secs_f64(),
+        time_limit_hit,
     };
     Ok((meshed, report))
 }

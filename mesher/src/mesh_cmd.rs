@@ -2,16 +2,32 @@
 //! progress bar over the front iterations, writes the mesh, the statistics JSON and a
 //! summary line.
 
-use super::{Length, MeshArgs, RemedialArg};
+use super::{Length, MeshArgs, RemedialArg, TimeLimitArg};
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
+use mesher::boundary::BoundaryError;
+use mesher::delaunay::DelaunayError;
 use mesher::front::Remedial;
+use mesher::io::IoError;
+use mesher::limit::TimeLimitAction;
 use mesher::sizing::LengthMode;
 use mesher::{MeshError, Params, SizeSpec};
 use std::process::ExitCode;
 
+/// Exit code of a refused input (unreadable, defective, degenerate): the reason is on
+/// stderr as `mesher: refused: FILE: REASON`. Other errors exit 2.
+const EXIT_REFUSED: u8 = 1;
+
 pub fn mesh(args: &MeshArgs) -> Result<ExitCode> {
-    let read = mesher::io::read_surface(&args.surface)?;
+    let read = match mesher::io::read_surface(&args.surface) {
+        Ok(r) => r,
+        Err(e @ (IoError::Os { .. } | IoError::UnknownFormat { .. })) => return Err(e.into()),
+        // The parse errors name the file and line themselves.
+        Err(e) => {
+            eprintln!("mesher: refused: {e}");
+            return Ok(ExitCode::from(EXIT_REFUSED));
+        }
+    };
     let surface = read.surface;
     let params = params_from(args)?;
     let bar = ProgressBar::new(params.front.max_iterations as u64);
@@ -30,13 +46,7 @@ pub fn mesh(args: &MeshArgs) -> Result<ExitCode> {
     bar.finish_and_clear();
     let (meshed, report) = match result {
         Ok(r) => r,
-        Err(MeshError::Boundary(
-            e @ (mesher::boundary::BoundaryError::Defective { .. }
-            | mesher::boundary::BoundaryError::VertexOnEntity { .. }),
-        )) => {
-            eprintln!("mesher: {}: {e}", args.surface.display());
-            return Ok(ExitCode::from(1));
-        }
+        Err(e) if is_refusal(&e) => return Ok(refuse(args, &e)),
         Err(e) => return Err(e).with_context(|| format!("meshing {}", args.surface.display())),
     };
     if args.validate {
@@ -57,8 +67,12 @@ pub fn mesh(args: &MeshArgs) -> Result<ExitCode> {
         v["iterations"] = serde_json::to_value(&report.front.iterations)?;
         v["quality"] = serde_json::to_value(&summary)?;
         v["edges"] = serde_json::to_value(&band)?;
-        std::fs::write(path, serde_json::to_string_pretty(&v)? + "\n")
+        let json = serde_json::to_string_pretty(&v)? + "\n";
+        mesher::io::write_with(path, |w| std::io::Write::write_all(w, json.as_bytes()))
             .with_context(|| format!("writing {}", path.display()))?;
+    }
+    if let Some(phase) = &report.time_limit_hit {
+        eprintln!("mesher: time limit passed after the {phase}; the later phases were skipped");
     }
     eprintln!(
         "mesher: {} vertices, {} tets, {} iterations{}; worst Q_K {:.2} (Q_t {:.2}), {:.1} % Q_K < 3, {:.1} % edges in [0.6, 1.67]; {:.3} s",
@@ -75,6 +89,30 @@ pub fn mesh(args: &MeshArgs) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// Whether `e` refuses the input (a defect of the surface) rather than a failure of
+/// the mesher.
+fn is_refusal(e: &MeshError) -> bool {
+    matches!(
+        e,
+        MeshError::Boundary(
+            BoundaryError::Defective { .. }
+                | BoundaryError::VertexOnEntity { .. }
+                | BoundaryError::CoincidentVertices { .. }
+                | BoundaryError::Kernel(
+                    DelaunayError::NonFinite { .. }
+                        | DelaunayError::OutOfRange { .. }
+                        | DelaunayError::Degenerate { .. }
+                )
+        )
+    )
+}
+
+/// Prints the refusal and gives its exit code.
+fn refuse(args: &MeshArgs, e: &MeshError) -> ExitCode {
+    eprintln!("mesher: refused: {}: {e}", args.surface.display());
+    ExitCode::from(EXIT_REFUSED)
+}
+
 /// The library parameters from the command line.
 fn params_from(args: &MeshArgs) -> Result<Params> {
     let mut params = Params {
@@ -83,6 +121,11 @@ fn params_from(args: &MeshArgs) -> Result<Params> {
     };
     params.optimize_options.max_passes = args.optimize_passes;
     params.front.max_iterations = args.max_iterations;
+    params.time_limit = args.time_limit;
+    params.time_limit_action = match args.time_limit_action {
+        TimeLimitArg::Best => TimeLimitAction::Best,
+        TimeLimitArg::Error => TimeLimitAction::Error,
+    };
     params.front.delta = args.delta;
     params.front.delta_f = args.delta_f;
     params.front.delta_v = args.delta_v;

@@ -201,8 +201,11 @@ impl Kernel {
         locate_by_scan(mesh, p)
     }
 
-    /// Inserts `p`: a new vertex, or the existing vertex at the same coordinates.
+    /// Inserts `p`: a new vertex, or the existing vertex at the same coordinates. A
+    /// non-finite point or one beyond [`super::MAX_COORDINATE`] is refused (its index in
+    /// the error is the vertex it would have been), leaving the mesh unchanged.
     pub fn insert(&mut self, mesh: &mut TetMesh, p: Point) -> Result<Inserted, DelaunayError> {
+        super::check_point(mesh.num_vertices(), p)?;
         if !self.filter.contains(p) {
             // A vertex outside the declared box voids the static bounds for good.
             self.filter = StaticFilter::none();

@@ -43,6 +43,36 @@ pub enum DelaunayError {
     /// More tets than the id space holds.
     #[error("too many tets for 32-bit ids")]
     TooManyTets,
+    /// A coordinate is beyond [`MAX_COORDINATE`] in magnitude.
+    #[error("point {index} at ({x}, {y}, {z}) is beyond 2^64 in magnitude (the supported range)")]
+    OutOfRange {
+        /// Index of the point in the input (for [`Kernel::insert`], the vertex it would
+        /// have been).
+        index: usize,
+        /// x.
+        x: f64,
+        /// y.
+        y: f64,
+        /// z.
+        z: f64,
+    },
+}
+
+/// The largest coordinate magnitude the kernel accepts, 2^64 (about 1.8e19). The exact
+/// predicates decide any finite input, but the constructions of the later stages
+/// (circumcentres, volumes, sizes) overflow near 1e300 (fuzzing fed such points).
+pub const MAX_COORDINATE: f64 = 18_446_744_073_709_551_616.0;
+
+/// Checks that `p` (point `index`) is finite and within [`MAX_COORDINATE`].
+pub(crate) fn check_point(index: usize, p: Point) -> Result<(), DelaunayError> {
+    let (x, y, z) = (p.x, p.y, p.z);
+    if !p.is_finite() {
+        return Err(DelaunayError::NonFinite { index, x, y, z });
+    }
+    if p.abs().max_element() > MAX_COORDINATE {
+        return Err(DelaunayError::OutOfRange { index, x, y, z });
+    }
+    Ok(())
 }
 
 /// How the points are ordered before insertion.
@@ -93,14 +123,8 @@ pub fn triangulate(
     points: &[Point],
     options: &DelaunayOptions,
 ) -> Result<Triangulation, DelaunayError> {
-    if let Some(index) = points.iter().position(|p| !p.is_finite()) {
-        let p = points[index];
-        return Err(DelaunayError::NonFinite {
-            index,
-            x: p.x,
-            y: p.y,
-            z: p.z,
-        });
+    for (index, &p) in points.iter().enumerate() {
+        check_point(index, p)?;
     }
     let order: Vec<u32> = match options.order {
         InsertionOrder::Brio => sort::brio_order(points, options.seed),

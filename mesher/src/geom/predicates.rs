@@ -31,6 +31,8 @@
 use glam::DVec3;
 use robust::{Coord, Coord3D};
 
+#[path = "big.rs"]
+mod big;
 #[path = "fixed.rs"]
 mod fixed;
 
@@ -146,8 +148,13 @@ pub fn orient3d_exact(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> Orientation {
     match fixed::orient3d_sign(a, b, c, d) {
         Some(s) => Orientation::from_f64(s as f64),
         None => {
-            let [a, b, c, d] = rescaled([a, b, c, d]);
-            orient3d_robust(a, b, c, d)
+            let q = rescaled([a, b, c, d]);
+            if robust_exact(&q) {
+                orient3d_robust(q[0], q[1], q[2], q[3])
+            } else {
+                big::orient3d_sign(a, b, c, d)
+                    .map_or(Orientation::Zero, |s| Orientation::from_f64(s as f64))
+            }
         }
     }
 }
@@ -226,12 +233,22 @@ pub fn insphere(a: DVec3, b: DVec3, c: DVec3, d: DVec3, e: DVec3) -> Sphere {
 /// range check); then the exact stages.
 #[inline(never)]
 fn insphere_dynamic(det: f64, diffs: [DVec3; 4], [a, b, c, d, e]: [DVec3; 5]) -> Sphere {
-    let perm = insphere_permanent(diffs);
-    if det > ISP_DYN * perm {
-        return Sphere::Outside;
-    }
-    if -det > ISP_DYN * perm {
-        return Sphere::Inside;
+    // The caller's range check bounds the largest difference per axis only; a smaller
+    // non-zero one can still make products underflow, and then the relative bound does
+    // not hold (fuzzing found a wrong sign with differences near 1e-178 beside 1e-35).
+    let no_underflow = diffs.iter().all(|v| {
+        v.to_array()
+            .iter()
+            .all(|&x| x == 0.0 || x.abs() > FILTER_MIN)
+    });
+    if no_underflow {
+        let perm = insphere_permanent(diffs);
+        if det > ISP_DYN * perm {
+            return Sphere::Outside;
+        }
+        if -det > ISP_DYN * perm {
+            return Sphere::Inside;
+        }
     }
     insphere_exact(a, b, c, d, e)
 }
@@ -371,8 +388,13 @@ pub fn insphere_exact(a: DVec3, b: DVec3, c: DVec3, d: DVec3, e: DVec3) -> Spher
     match fixed::insphere_sign(a, b, c, d, e) {
         Some(s) => sphere_from_shewchuk(s as f64),
         None => {
-            let [a, b, c, d, e] = rescaled([a, b, c, d, e]);
-            insphere_robust(a, b, c, d, e)
+            let q = rescaled([a, b, c, d, e]);
+            if robust_exact(&q) {
+                insphere_robust(q[0], q[1], q[2], q[3], q[4])
+            } else {
+                big::insphere_sign(a, b, c, d, e)
+                    .map_or(Sphere::On, |s| sphere_from_shewchuk(s as f64))
+            }
         }
     }
 }
@@ -418,6 +440,20 @@ fn rescaled<const N: usize>(p: [DVec3; N]) -> [DVec3; N] {
     } else {
         p
     }
+}
+
+/// Whether `robust` is exact on the (rescaled) points: every coordinate zero or of
+/// magnitude in `[2^-150, 4]`. Then every value its expansions form from degree-5
+/// products is a multiple of `2^(-5 * (150 + 53))`, above the smallest normal double,
+/// and below the largest; else [`big`] decides (NaN and infinities stay with `robust`).
+fn robust_exact<const N: usize>(q: &[DVec3; N]) -> bool {
+    const LO: f64 = 7.006_492_321_624_085e-46; // 2^-150
+    q.iter().all(|v| {
+        !v.is_finite()
+            || v.to_array()
+                .iter()
+                .all(|&x| x == 0.0 || (LO..=4.0).contains(&x.abs()))
+    })
 }
 
 /// Exact insphere by `robust` alone: the reference the faster stages are tested and

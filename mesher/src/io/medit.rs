@@ -205,11 +205,11 @@ pub fn write_sol<W: Write>(w: &mut W, values: &[f64]) -> std::io::Result<()> {
 
 /// Writes `path` (`.mesh`) and, when the mesh has vertex sizes, the `.sol` beside it.
 pub(crate) fn write_files(path: &Path, m: &VolumeMesh) -> Result<(), IoError> {
-    write_with(path, |w| write_mesh(w, m))?;
+    // The sizes first: the file under the requested name appears last.
     if let Some(sizes) = &m.vertex_sizes {
         write_with(&path.with_extension("sol"), |w| write_sol(w, sizes))?;
     }
-    Ok(())
+    write_with(path, |w| write_mesh(w, m))
 }
 
 /// Reads `path` (`.mesh`) and, when a `.sol` exists beside it, its vertex sizes.

@@ -276,17 +276,37 @@ pub fn read_volume(path: &Path) -> Result<VolumeMesh, IoError> {
     }
 }
 
-/// Creates `path` and runs `f` on a buffered writer, flushing at the end; OS errors name
-/// the path.
-pub(crate) fn write_with(
+/// Writes `path` atomically: runs `f` on a buffered writer to a temporary file in the
+/// same directory, flushes it, then renames it to `path`. A failed write (in `f`, the
+/// flush or the rename) removes the temporary file and leaves whatever `path` held
+/// before, so no half-written file ever appears under the requested name. OS errors
+/// name the path.
+pub fn write_with(
     path: &Path,
     f: impl FnOnce(&mut BufWriter<std::fs::File>) -> std::io::Result<()>,
 ) -> Result<(), IoError> {
-    let file = std::fs::File::create(path).map_err(|e| IoError::os(path, e))?;
+    let os = |e| IoError::os(path, e);
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let name = path
+        .file_name()
+        .map_or_else(|| "out".into(), |n| n.to_string_lossy().into_owned());
+    let prefix = format!(".{name}.");
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(&prefix).suffix(".tmp");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        // Created with 0666 minus the umask, as `File::create` would.
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    let (file, tmp) = builder.tempfile_in(dir).map_err(os)?.into_parts();
     let mut w = BufWriter::with_capacity(1 << 16, file);
-    f(&mut w)
-        .and_then(|_| w.flush())
-        .map_err(|e| IoError::os(path, e))
+    f(&mut w).and_then(|_| w.flush()).map_err(os)?;
+    drop(w);
+    tmp.persist(path).map_err(|e| os(e.error))
 }
 
 #[cfg(test)]
@@ -320,5 +340,26 @@ mod tests {
         assert!(e.to_string().contains("x.ply"), "{e}");
         let e = write_volume(Path::new("x.abc"), &VolumeMesh::default()).unwrap_err();
         assert!(e.to_string().contains("x.abc"), "{e}");
+    }
+
+    #[test]
+    fn a_failed_write_leaves_no_half_written_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("out.mesh");
+        let fail = |w: &mut BufWriter<std::fs::File>| -> std::io::Result<()> {
+            w.write_all(b"partial")?;
+            Err(std::io::Error::other("disk full"))
+        };
+        let e = write_with(&path, fail).unwrap_err();
+        assert!(e.to_string().contains("out.mesh"), "{e}");
+        assert!(!path.exists());
+        write_with(&path, |w| w.write_all(b"old")).unwrap();
+        write_with(&path, fail).unwrap_err();
+        assert_eq!(std::fs::read(&path).unwrap(), b"old");
+        let names: Vec<_> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(names, vec![std::ffi::OsString::from("out.mesh")]);
     }
 }

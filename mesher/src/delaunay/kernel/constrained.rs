@@ -79,6 +79,11 @@ impl Kernel {
         p: Point,
         hint: Option<TetId>,
     ) -> Result<(), Rejection> {
+        if crate::delaunay::check_point(0, p).is_err() {
+            // A point with a NaN, infinite or out-of-range coordinate is in no tet of
+            // the domain.
+            return Err(Rejection::Outside);
+        }
         if let Some(h) = hint {
             if h.index() < mesh.num_slots() && mesh.is_alive(h) {
                 self.last = h.0;
