@@ -20,6 +20,8 @@ pub const NAMES: &[&str] = &[
     "nested-spheres",
     "thin-slab",
     "two-cubes-edge",
+    "single-triangle",
+    "flat-fan",
 ];
 
 /// The surface of generator `name`, or `None` for an unknown name.
@@ -36,6 +38,8 @@ pub fn by_name(name: &str) -> Option<Surface> {
         // 1 x 1 x 0.02, squares of 0.02: 10 400 triangles.
         "thin-slab" => box_grid([1.0, 1.0, 0.02], [50, 50, 1]),
         "two-cubes-edge" => two_cubes_edge(),
+        "single-triangle" => single_triangle(),
+        "flat-fan" => flat_fan(),
         _ => return None,
     })
 }
@@ -260,6 +264,38 @@ pub fn two_cubes_edge() -> Surface {
     }
     append(&mut s, &other);
     s
+}
+
+/// One triangle: an open surface (three boundary edges), nothing to mesh.
+pub fn single_triangle() -> Surface {
+    Surface {
+        vertices: vec![
+            Point::new(0.0, 0.0, 0.0),
+            Point::new(1.0, 0.0, 0.0),
+            Point::new(0.0, 1.0, 0.0),
+        ],
+        triangles: vec![[0, 1, 2]],
+    }
+}
+
+/// All vertices coplanar: a square fan and the same fan reversed, glued along the
+/// boundary. Every edge has two faces, but the surface encloses no volume and its
+/// diagonal edges carry four faces (non-manifold).
+pub fn flat_fan() -> Surface {
+    let s = box_grid([1.0, 1.0, 1.0], [2, 2, 1]);
+    // The bottom face of a grid box, doubled: the z = 0 triangles and their reverses.
+    let bottom: Vec<[u32; 3]> = s
+        .triangles
+        .iter()
+        .copied()
+        .filter(|t| t.iter().all(|&i| s.vertices[i as usize].z == 0.0))
+        .collect();
+    let mut triangles = bottom.clone();
+    triangles.extend(bottom.iter().map(|t| [t[0], t[2], t[1]]));
+    Surface {
+        vertices: s.vertices,
+        triangles,
+    }
 }
 
 /// `s` with every triangle's orientation reversed.
