@@ -8,7 +8,6 @@
 use mesher::delaunay::{triangulate, DelaunayError, DelaunayOptions, Inserted, Kernel};
 use mesher::geom::Point;
 use mesher::io::{parse_surface, SurfaceFormat};
-use mesher::quality::signed_volume;
 use mesher::surface::generate::{cube, icosphere};
 use mesher::{Params, Surface};
 use std::collections::BTreeMap;
@@ -209,9 +208,7 @@ pub fn mesh(data: &[u8]) {
     };
     m.mesh.validate(false).expect("the mesh is invalid");
     let vm = m.to_volume_mesh();
-    let volume: f64 = (0..vm.tets.len())
-        .map(|t| signed_volume(&vm.tet_points(t)))
-        .sum();
+    let volume = vm.volume();
     let enclosed = r.boundary.enclosed_volume;
     assert!(
         ((volume - enclosed) / enclosed).abs() < 1e-9,

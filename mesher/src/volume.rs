@@ -26,6 +26,13 @@ pub struct VolumeMesh {
 }
 
 impl VolumeMesh {
+    /// The sum of the signed tet volumes.
+    pub fn volume(&self) -> f64 {
+        (0..self.tets.len())
+            .map(|t| crate::quality::signed_volume(&self.tet_points(t)))
+            .sum()
+    }
+
     /// The four corner points of tet `t`.
     pub fn tet_points(&self, t: usize) -> [Point; 4] {
         let [a, b, c, d] = self.tets[t];

@@ -7,7 +7,6 @@
 
 use mesher::front::{FrontParams, Remedial};
 use mesher::geom::Point;
-use mesher::quality::signed_volume;
 use mesher::surface::generate::{cube, icosphere, torus};
 use mesher::{mesh, Meshed, Params, Report, SizeSpec, Surface};
 
@@ -28,9 +27,7 @@ fn check(name: &str, s: &Surface, params: &Params) -> (Meshed, Report) {
         sorted_triangles(&s.triangles),
         "{name}"
     );
-    let volume: f64 = (0..vm.tets.len())
-        .map(|t| signed_volume(&vm.tet_points(t)))
-        .sum();
+    let volume = vm.volume();
     let enclosed = r.boundary.enclosed_volume;
     assert!(
         ((volume - enclosed) / enclosed).abs() < 1e-9,

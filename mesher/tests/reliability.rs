@@ -5,7 +5,7 @@
 
 use mesher::geom::Point;
 use mesher::limit::TimeLimitAction;
-use mesher::quality::{signed_volume, summarize};
+use mesher::quality::summarize;
 use mesher::surface::generate::{cube, icosphere, torus};
 use mesher::{mesh, MeshError, Params, Surface};
 use std::path::{Path, PathBuf};
@@ -19,9 +19,7 @@ fn tets_and_worst(name: &str, s: &Surface) -> (usize, f64) {
         .validate(false)
         .unwrap_or_else(|e| panic!("{name}: {e}"));
     let vm = m.to_volume_mesh();
-    let volume: f64 = (0..vm.tets.len())
-        .map(|t| signed_volume(&vm.tet_points(t)))
-        .sum();
+    let volume = vm.volume();
     let enclosed = r.boundary.enclosed_volume;
     assert!(
         ((volume - enclosed) / enclosed).abs() < 1e-9,
