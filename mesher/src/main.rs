@@ -11,6 +11,7 @@
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 use mesher::delaunay::{triangulate, DelaunayOptions, InsertionOrder};
+use mesher::io::IoError;
 use mesher::surface::generate;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -333,12 +334,20 @@ fn check(path: &Path, json: bool) -> Result<ExitCode> {
 
 fn boundary(path: &Path, output: Option<&Path>, stats: bool, validate: bool) -> Result<ExitCode> {
     use mesher::boundary::{boundary_mesh, BoundaryError, BoundaryOptions};
-    let read = mesher::io::read_surface(path)?;
+    let read = match mesher::io::read_surface(path) {
+        Ok(r) => r,
+        Err(e @ (IoError::Os { .. } | IoError::UnknownFormat { .. })) => return Err(e.into()),
+        // A parse error names the file and line; the input is refused as by `mesh`.
+        Err(e) => {
+            eprintln!("mesher: refused: {e}");
+            return Ok(ExitCode::from(1));
+        }
+    };
     let t0 = Instant::now();
     let (bm, report) = match boundary_mesh(&read.surface, &BoundaryOptions::default()) {
         Ok(r) => r,
         Err(e @ (BoundaryError::Defective { .. } | BoundaryError::VertexOnEntity { .. })) => {
-            eprintln!("mesher: {}: {e}", path.display());
+            eprintln!("mesher: refused: {}: {e}", path.display());
             return Ok(ExitCode::from(1));
         }
         Err(e) => return Err(e).with_context(|| format!("boundary mesh of {}", path.display())),

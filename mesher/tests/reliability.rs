@@ -1,7 +1,7 @@
 //! Reliability (issue 8): scaled and offset copies of a model mesh as the unit copy
-//! does; the same input gives byte-identical files across runs of `mesher mesh`; the
-//! time limit returns the best valid mesh or a typed error; a failed run leaves no
-//! output file.
+//! does; the same input gives byte-identical files across runs of `mesher mesh` and
+//! across thread counts; the time limit returns the best valid mesh or a typed error;
+//! a failed run leaves no output file.
 
 use mesher::geom::Point;
 use mesher::limit::TimeLimitAction;
@@ -165,6 +165,33 @@ fn mesh_command_output_is_byte_identical_across_runs() {
             assert!(runs[0] == runs[1], "{name} -> .{ext}: the two runs differ");
         }
     }
+    std::fs::remove_dir_all(&d).ok();
+}
+
+/// Across thread counts (issue 8): the front (optimal points, filtration) and the
+/// surface check run on rayon; their results are gathered in input order, so 1, 2 and
+/// 4 threads must write the same bytes. The level-4 sphere has fronts of several
+/// thousand faces, so the work is split across chunks and threads.
+#[test]
+fn mesh_output_is_byte_identical_across_thread_counts() {
+    let d = scratch("threads");
+    let input = write_surface(&d, "sphere4.off", &icosphere(4));
+    let runs: Vec<Vec<u8>> = ["1", "2", "4"]
+        .iter()
+        .map(|n| {
+            let out = d.join(format!("t{n}.mesh"));
+            let o = Command::new(env!("CARGO_BIN_EXE_mesher"))
+                .args(["mesh", &input, "-o", out.to_str().unwrap()])
+                .env("RAYON_NUM_THREADS", n)
+                .output()
+                .expect("mesher runs");
+            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+            std::fs::read(&out).expect("the output")
+        })
+        .collect();
+    assert!(!runs[0].is_empty());
+    assert!(runs[0] == runs[1], "1 and 2 threads differ");
+    assert!(runs[0] == runs[2], "1 and 4 threads differ");
     std::fs::remove_dir_all(&d).ok();
 }
 

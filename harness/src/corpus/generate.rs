@@ -1,6 +1,7 @@
 //! Generated corpus surfaces (no download): geodesic spheres of any size, a box with a
 //! cylindrical through-hole, nested spheres (a hollow ball), a thin slab, two cubes
-//! sharing an edge (non-manifold), and midpoint refinement of any surface.
+//! sharing an edge (non-manifold), the dirty tier's small defects (a single triangle,
+//! a flat fan, a NaN coordinate, an empty file), and midpoint refinement of any surface.
 //!
 //! Every generator is deterministic: vertices are created in a fixed order and each
 //! coordinate is computed from integer lattice indices in one canonical way, so a shared
@@ -22,7 +23,18 @@ pub const NAMES: &[&str] = &[
     "two-cubes-edge",
     "single-triangle",
     "flat-fan",
+    "nan-vertex",
+    "empty-file",
 ];
+
+/// Generators whose file is not an OFF rendering of a surface: the exact bytes.
+pub fn raw_bytes(name: &str) -> Option<Vec<u8>> {
+    match name {
+        // Zero bytes: a download that failed, a file truncated by a crash.
+        "empty-file" => Some(Vec::new()),
+        _ => None,
+    }
+}
 
 /// The surface of generator `name`, or `None` for an unknown name.
 pub fn by_name(name: &str) -> Option<Surface> {
@@ -40,6 +52,9 @@ pub fn by_name(name: &str) -> Option<Surface> {
         "two-cubes-edge" => two_cubes_edge(),
         "single-triangle" => single_triangle(),
         "flat-fan" => flat_fan(),
+        "nan-vertex" => nan_vertex(),
+        // Rendered by `raw_bytes`; as a surface it is the empty one.
+        "empty-file" => Surface::default(),
         _ => return None,
     })
 }
@@ -276,6 +291,16 @@ pub fn single_triangle() -> Surface {
         ],
         triangles: vec![[0, 1, 2]],
     }
+}
+
+/// A closed cube (12 triangles) whose vertex 5 has a NaN y coordinate, as a writer that
+/// divided by zero leaves it.
+pub fn nan_vertex() -> Surface {
+    let mut s = box_grid([1.0, 1.0, 1.0], [1, 1, 1]);
+    if let Some(p) = s.vertices.get_mut(5) {
+        p.y = f64::NAN;
+    }
+    s
 }
 
 /// All vertices coplanar: a square fan and the same fan reversed, glued along the

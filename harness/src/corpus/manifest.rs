@@ -44,6 +44,8 @@ pub enum Category {
     NonManifold,
     /// Faces crossing other faces.
     SelfIntersecting,
+    /// Not a readable surface: an empty file, non-finite coordinates.
+    Unreadable,
     /// A user's model (`harness corpus import`), not classified further.
     User,
 }
@@ -152,6 +154,7 @@ impl fmt::Display for Category {
             Category::Open => "open",
             Category::NonManifold => "non-manifold",
             Category::SelfIntersecting => "self-intersecting",
+            Category::Unreadable => "unreadable",
             Category::User => "user",
         })
     }

@@ -90,6 +90,11 @@ fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), CorpusError> {
 
 /// The OFF bytes of a generated, combined or refined model (not verified).
 pub fn render(repo_root: &Path, model: &Model) -> Result<Vec<u8>, CorpusError> {
+    if let Source::Generated(name) = &model.source {
+        if let Some(bytes) = generate::raw_bytes(name) {
+            return Ok(bytes);
+        }
+    }
     let surface = build(repo_root, model)?;
     Ok(off_bytes(&surface))
 }
