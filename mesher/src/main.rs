@@ -131,6 +131,18 @@ struct MeshArgs {
     /// Smallest normalised distance from a field point to an existing vertex.
     #[arg(long, default_value_t = mesher::front::FrontParams::default().delta_v)]
     delta_v: f64,
+    /// delta_f and delta_v for the optimal points of boundary faces (the first layer)
+    #[arg(long, default_value_t = mesher::front::FrontParams::default().delta_boundary)]
+    delta_boundary: f64,
+    /// Filter the field points against the vertices of every unacceptable tet
+    #[arg(long)]
+    filter_all_vertices: bool,
+    /// Shape bound of acceptance: a tet with Q_K above it is unacceptable
+    #[arg(long, default_value_t = mesher::front::FrontParams::default().q_accept)]
+    q_accept: f64,
+    /// Points proposed per front face: the optimal point and deeper ones along the normal
+    #[arg(long, default_value_t = mesher::front::FrontParams::default().layers)]
+    front_layers: usize,
     /// Bound on the front iterations.
     #[arg(long, default_value_t = mesher::front::FrontParams::default().max_iterations)]
     max_iterations: usize,

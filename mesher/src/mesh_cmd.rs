@@ -129,6 +129,10 @@ fn params_from(args: &MeshArgs) -> Result<Params> {
     params.front.delta = args.delta;
     params.front.delta_f = args.delta_f;
     params.front.delta_v = args.delta_v;
+    params.front.layers = args.front_layers;
+    params.front.q_accept = args.q_accept;
+    params.front.delta_boundary = args.delta_boundary;
+    params.front.filter_all_vertices = args.filter_all_vertices;
     params.front.point.mode = match args.length {
         Length::Endpoints => LengthMode::EndPoints,
         Length::Piecewise => LengthMode::Piecewise,

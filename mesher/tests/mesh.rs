@@ -160,6 +160,29 @@ fn piecewise_lengths_give_a_valid_mesh() {
     check("torus, piecewise lengths", &s, &params);
 }
 
+/// The front's options beyond the paper (deeper layers, filtration against every
+/// unacceptable tet's vertices, a shape bound on acceptance, a larger delta) still give
+/// a valid mesh with the boundary kept, and the deeper layers cut the iterations.
+#[test]
+fn front_options_give_a_valid_mesh_in_fewer_iterations() {
+    let s = icosphere(3);
+    let (_, base) = check("sphere", &s, &Params::default());
+    let mut params = Params::default();
+    params.front.layers = 2;
+    params.front.delta = 1.5;
+    params.front.filter_all_vertices = true;
+    params.front.q_accept = 3.0;
+    params.front.delta_f = 0.9;
+    params.front.delta_v = 0.9;
+    let (_, r) = check("sphere, front options", &s, &params);
+    assert!(
+        r.front.iterations.len() < base.front.iterations.len(),
+        "{} iterations vs {}",
+        r.front.iterations.len(),
+        base.front.iterations.len()
+    );
+}
+
 #[test]
 fn same_input_same_bytes() {
     let s = torus(40, 8, 2.0, 0.3);

@@ -1,6 +1,7 @@
 //! The comparison itself: our rows of a run against the baseline's, model by model
 //! (status, validity, worst Q_K, % Q_K < 3, tet count), then speed as the ratio of our
-//! tets/s to a peer's in the same run, summed over the models both meshed.
+//! tets/s to a peer's in the same run: the median, over the models both meshed, of the
+//! per-model ratio.
 //!
 //! A runner absent from the baseline is new and not gated; a runner whose rows are all
 //! `missing` counts as absent. A model that failed in the baseline is not a regression if
@@ -239,18 +240,39 @@ fn totals(rows: &Rows<'_>, runner: &str, models: &[&str]) -> (f64, f64) {
     })
 }
 
-/// Our tets/s over the peer's, each summed over `models`; `None` when a side ran for
-/// less than `min_seconds` in total.
+/// The median over `models` of our tets/s over the peer's on the same model, counting
+/// the models where both sides ran at least `min_model` seconds; `None` when a side ran
+/// for less than `min` in total or no model counts. A median, not a ratio of sums: one
+/// model on which a peer's time swings fivefold between runs (TetGen -q on
+/// fandisk-in-box: 51 s, then 9 s) must not move the figure.
 fn speed_ratio(
     rows: &Rows<'_>,
     runner: &str,
     peer: &str,
     models: &[&str],
-    min: f64,
+    (min, min_model): (f64, f64),
 ) -> Option<f64> {
     let (ot, ow) = totals(rows, runner, models);
     let (pt, pw) = totals(rows, peer, models);
-    (ow >= min && pw >= min && ot > 0.0 && pt > 0.0).then(|| (ot / ow) / (pt / pw))
+    if !(ow >= min && pw >= min && ot > 0.0 && pt > 0.0) {
+        return None;
+    }
+    let speed = |who: &str, m: &str| {
+        let r = rows.get(&(who, m))?;
+        let (t, w) = (r.tets? as f64, r.wall_seconds?);
+        (w >= min_model && t > 0.0).then_some(t / w)
+    };
+    let mut ratios: Vec<f64> = models
+        .iter()
+        .filter_map(|m| Some(speed(runner, m)? / speed(peer, m)?))
+        .collect();
+    ratios.sort_by(f64::total_cmp);
+    let n = ratios.len();
+    match n {
+        0 => None,
+        _ if n % 2 == 1 => Some(ratios[n / 2]),
+        _ => Some(0.5 * (ratios[n / 2 - 1] + ratios[n / 2])),
+    }
 }
 
 /// The speed check of one (runner, peer) pair over the models all four rows meshed.
@@ -274,14 +296,14 @@ fn compare_speed(
         return None;
     }
     let subject = format!("{} models vs {peer}", models.len());
-    let min = tol.speed.min_seconds;
+    let min = (tol.speed.min_seconds, tol.speed.min_model_seconds);
     let (b, n) = (
         speed_ratio(base, runner, peer, &models, min),
         speed_ratio(now, runner, peer, &models, min),
     );
     let (Some(b), Some(n)) = (b, n) else {
         let (bs, ns) = (fmt_opt(b, 3), fmt_opt(n, 3));
-        let limit = format!("not timed (< {min} s)");
+        let limit = format!("not timed (< {} s)", min.0);
         return Some(finding(
             runner,
             &subject,

@@ -1,6 +1,9 @@
 //! Filtration of the field points (paper §5.2): a point `Q` is dropped when a point `P`
 //! already kept has `l(PQ) < delta_f` (NOTES.md §5, default `1/sqrt(2)`).
 //!
+//! Existing mesh vertices can be registered too ([`Grid::add_vertex`]): a point closer
+//! than `delta_v` to one of them is dropped here, before the kernel builds its cavity.
+//!
 //! The search goes through a uniform hash grid, never all pairs. Since `h` is linear
 //! along `PQ`, `l(PQ) >= |PQ| / max(h_P, h_Q)`, so a close pair is closer than
 //! `delta_f * max(h_Q, h_max)`, `h_max` the largest size of the candidates: a kept point
@@ -44,22 +47,42 @@ pub const MAX_SPAN: i64 = 8;
 pub struct Grid {
     cell: f64,
     delta_f: f64,
+    delta_v: f64,
     cells: CellMap,
     h_max: f64,
     kept: Vec<(Point, f64)>,
+    vertices: Vec<(Point, f64)>,
 }
 
+/// Bit set on a cell entry that refers to [`Grid::vertices`] rather than a kept point.
+const VERTEX_BIT: u32 = 1 << 31;
+
 impl Grid {
-    /// An empty grid for points of sizes at most `h_max`.
-    pub fn new(h_max: f64, delta_f: f64) -> Grid {
-        let cell = (h_max * delta_f).max(f64::MIN_POSITIVE);
+    /// An empty grid for points of sizes at most `h_max`, with the filtration distance
+    /// `delta_f` between kept points and `delta_v` to registered vertices.
+    pub fn new(h_max: f64, delta_f: f64, delta_v: f64) -> Grid {
+        let cell = (h_max * delta_f.max(delta_v)).max(f64::MIN_POSITIVE);
         Grid {
             cell,
             delta_f,
+            delta_v,
             h_max,
             cells: CellMap::default(),
             kept: Vec::new(),
+            vertices: Vec::new(),
         }
+    }
+
+    /// Registers an existing vertex (size `h <= h_max`): later points closer than
+    /// `delta_v` to it are dropped.
+    pub fn add_vertex(&mut self, p: Point, h: f64) {
+        if self.vertices.len() as u32 >= VERTEX_BIT - 1 {
+            return;
+        }
+        let id = self.vertices.len() as u32 | VERTEX_BIT;
+        self.vertices.push((p, h));
+        let key = [p.x, p.y, p.z].map(|c| self.key(c));
+        self.cells.entry(key).or_default().push(id);
     }
 
     fn key(&self, x: f64) -> i64 {
@@ -80,10 +103,12 @@ impl Grid {
         })
     }
 
-    /// Keeps `p` (size `h`) unless a kept point is closer than `delta_f`; returns
-    /// whether it was kept.
-    pub fn try_keep(&mut self, p: Point, h: f64) -> bool {
-        let r = self.delta_f * h.max(self.h_max);
+    /// Keeps `p` (size `h`) unless a kept point is closer than `delta_f` or a vertex
+    /// closer than `delta_v` (each at most the grid's); returns whether it was kept.
+    pub fn try_keep(&mut self, p: Point, h: f64, delta_f: f64, delta_v: f64) -> bool {
+        let delta_f = delta_f.min(self.delta_f);
+        let delta_v = delta_v.min(self.delta_v);
+        let r = self.delta_f.max(self.delta_v) * h.max(self.h_max);
         let rg = self.range(p, r);
         for x in rg[0].0..=rg[0].1 {
             for y in rg[1].0..=rg[1].1 {
@@ -92,8 +117,12 @@ impl Grid {
                         continue;
                     };
                     for &k in list {
-                        let (q, hq) = self.kept[k as usize];
-                        if normalized_length(p.distance(q), h, hq) < self.delta_f {
+                        let ((q, hq), limit) = if k & VERTEX_BIT != 0 {
+                            (self.vertices[(k & !VERTEX_BIT) as usize], delta_v)
+                        } else {
+                            (self.kept[k as usize], delta_f)
+                        };
+                        if normalized_length(p.distance(q), h, hq) < limit {
                             return false;
                         }
                     }
@@ -128,12 +157,12 @@ mod tests {
             (s >> 11) as f64 / (1u64 << 53) as f64
         };
         let delta_f = std::f64::consts::FRAC_1_SQRT_2;
-        let mut g = Grid::new(0.2, delta_f);
+        let mut g = Grid::new(0.2, delta_f, delta_f);
         let mut all = Vec::new();
         for _ in 0..3000 {
             let p = Point::new(rnd(), rnd(), rnd());
             let h = 0.05 + 0.15 * p.x;
-            all.push((p, h, g.try_keep(p, h)));
+            all.push((p, h, g.try_keep(p, h, delta_f, delta_f)));
         }
         let kept = g.kept();
         assert!(kept.len() > 50 && kept.len() < 3000);
@@ -152,5 +181,19 @@ mod tests {
                     .any(|&(q, hq)| normalized_length(p.distance(q), h, hq) < delta_f));
             }
         }
+    }
+
+    #[test]
+    fn registered_vertices_drop_points_within_delta_v_only() {
+        let mut g = Grid::new(1.0, 0.5, 0.9);
+        g.add_vertex(Point::ZERO, 1.0);
+        // 0.8 from the vertex: inside delta_v = 0.9, dropped.
+        assert!(!g.try_keep(Point::new(0.8, 0.0, 0.0), 1.0, 0.5, 0.9));
+        // A per-point delta_v of 0.7 (a boundary face's point) keeps it.
+        assert!(g.try_keep(Point::new(0.8, 0.0, 0.0), 1.0, 0.5, 0.7));
+        // 0.6 from that kept point: outside delta_f = 0.5, kept; vertices are not in
+        // the kept list.
+        assert!(g.try_keep(Point::new(0.8, 0.6, 0.0), 1.0, 0.5, 0.5));
+        assert_eq!(g.kept().len(), 2);
     }
 }
