@@ -8,10 +8,11 @@
 //! - Front: the faces between an acceptable and an unacceptable tet (a constrained face
 //!   of an unacceptable tet counts too: the other side belongs to another region).
 //! - One optimal point per front face ([`point`]), kept only if strictly inside the
-//!   circumsphere of the unacceptable tet `K2` (exact `insphere`); optionally points of
-//!   deeper layers along the face normal (not in the paper: fewer iterations on deep
-//!   domains, see [`DEFAULT_LAYERS`]). All are filtered ([`filter`]) against the kept
-//!   points (`delta_f`) and the vertices of the unacceptable tets (`delta_v`).
+//!   circumsphere of the unacceptable tet `K2` (exact `insphere`), and points of deeper
+//!   layers along the face normal (not in the paper: fewer iterations on deep domains,
+//!   see [`DEFAULT_LAYERS`]). All are filtered ([`filter`]) against the kept points
+//!   (`delta_f`) and the vertices of `K2` (`delta_v`; optionally those of every
+//!   unacceptable tet).
 //! - Insertion by the constrained kernel ([`crate::delaunay::Kernel::constrained_cavity`]):
 //!   the cavity never crosses the surface nor leaves the region; a point outside the
 //!   domain, whose cavity the correction empties, or that would be joined to a vertex
@@ -47,24 +48,31 @@ pub enum Remedial {
     All,
 }
 
-/// Default acceptance bound `delta`: NOTES.md's `sqrt(2)`. Measured with two layers
-/// (`--front-layers 2 --delta 1.5`): fewer iterations (sphere-10k 20 -> 17), tet counts
-/// within noise, 99 % of the interior edges still in [0.6, 1.67]; not the default yet,
-/// see [`DEFAULT_LAYERS`].
-pub const DEFAULT_DELTA: f64 = std::f64::consts::SQRT_2;
+/// Default acceptance bound `delta`: 1.6, not NOTES.md's `sqrt(2)`. A tet with an
+/// edge between 1.41 and 1.6 is in band ([0.6, 1.67]) already; refining it costs
+/// iterations and points for nothing (with three layers, sphere-10k: 12 iterations at
+/// `sqrt(2)`, 10 at 1.6, same tet count and quality).
+pub const DEFAULT_DELTA: f64 = 1.6;
 
-/// Default points per front face: the optimal point only (the paper). A front advances
-/// about one layer of tets per iteration, so the iterations grow with the depth of the
-/// domain in units of the size: sphere-10k 35, armadillo 52, bunny00 and sphere-100k
-/// past the bound of 60. Two layers (and `delta` 1.5) halve that (17, 26, 40) for 3-5 %
-/// more tets, but the worst `Q_K` moves with the changed boundary layer (knot2 2.96 ->
-/// 4.35: a tet with two boundary faces on a ridge that the optimiser cannot split), and
-/// scaled copies of a model stop meshing alike within 1 % (the optimiser's ties follow
-/// the last bits). Until the optimiser handles those tets, deeper layers are an option.
-pub const DEFAULT_LAYERS: usize = 1;
+/// Default points per front face: the optimal point and two deeper ones (not in the
+/// paper). A front advances about one layer of tets per iteration, so with one point
+/// per face the iterations grow with the depth of the domain in units of the size:
+/// sphere-10k 35, armadillo 52, bunny00 and sphere-100k past the bound of 60. With
+/// three layers and the defaults here: sphere-10k 21, armadillo 32. Deeper points whose
+/// cavity reaches the surface are dropped (the boundary faces place that layer).
+pub const DEFAULT_LAYERS: usize = 3;
 
-/// Parameters of the front (defaults: NOTES.md §5-§6, except [`DEFAULT_DELTA`] and the
-/// deeper layers, [`DEFAULT_LAYERS`]).
+/// Default filtration distances `delta_f` and `delta_v` (normalised): 0.9, not
+/// NOTES.md's `1/sqrt(2)`, for the interior points; the boundary faces' points keep
+/// `1/sqrt(2)` ([`FrontParams::delta_boundary`]). At `1/sqrt(2)` the mean interior edge
+/// is 1.08 and the tet count 1.6-2.2 times Gmsh HXT's (whose mean edge is 1.24-1.39
+/// against the same sizes, and only ~80 % of its edges in [0.6, 1.67] on sphere-10k).
+/// At 0.9: mean 1.12-1.24, 95-97 % in band, 1.34-1.56 times HXT's count on the fine
+/// models. At 1.0 fewer than 90 % of the edges stay in band (sphere-10k 84 %).
+pub const DEFAULT_DELTA_F: f64 = 0.9;
+
+/// Parameters of the front (defaults: NOTES.md §5-§6, except [`DEFAULT_DELTA`],
+/// [`DEFAULT_DELTA_F`] and the deeper layers, [`DEFAULT_LAYERS`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FrontParams {
     /// Acceptance bound on normalised edge lengths.
@@ -90,8 +98,8 @@ pub struct FrontParams {
     /// Filtration also against the vertices of every unacceptable tet (not only those
     /// of the point's own `K2`): fewer points rejected at insertion after their cavity
     /// was built, and a better first layer on knot2 (worst Q_K 4.55 -> 2.96) and
-    /// box-with-hole (7.80 -> 3.90); off by default for the same reason as the layers:
-    /// scaled copies of the level-2 sphere then differ by 2 % in tets, 4.5 % in worst Q_K.
+    /// box-with-hole (7.80 -> 3.90) with the paper's parameters; off by default: it
+    /// moves the tet count of scaled copies of the level-2 sphere by 2 %.
     pub filter_all_vertices: bool,
     /// Points proposed per front face: the optimal point, then `layers - 1` more
     /// along the face's normal, one regular-tet height apart (deeper layers).
@@ -102,8 +110,8 @@ impl Default for FrontParams {
     fn default() -> Self {
         FrontParams {
             delta: DEFAULT_DELTA,
-            delta_f: std::f64::consts::FRAC_1_SQRT_2,
-            delta_v: std::f64::consts::FRAC_1_SQRT_2,
+            delta_f: DEFAULT_DELTA_F,
+            delta_v: DEFAULT_DELTA_F,
             delta_boundary: std::f64::consts::FRAC_1_SQRT_2,
             point: PointParams::default(),
             q_accept: f64::INFINITY,
@@ -154,7 +162,8 @@ pub struct FrontReport {
     pub iterations: Vec<Iteration>,
     /// True when the front emptied within the bound.
     pub converged: bool,
-    /// Points rejected at insertion, by reason: outside, emptied, not a ball, too close.
+    /// Points rejected at insertion, by reason: outside, emptied, not a ball, too close
+    /// (to a vertex, or a deeper-layer point whose cavity reaches the surface).
     pub rejections: [usize; 4],
     /// Tets removed by the cavities (all tried insertions).
     pub cavity_tets: u64,
@@ -454,7 +463,16 @@ fn insert(
     let close = kernel.cavity_vertices().any(|v| {
         normalized_length(c.p.distance(points[v.index()]), c.h, fm.h[v.index()]) < c.delta_v
     });
-    if close {
+    // A deeper-layer point whose cavity reaches the surface is near it (in a thin part,
+    // or past a curved front): the boundary faces' own points place that layer, and a
+    // deep point there makes flat tets on faces whose vertices never move.
+    let at_surface = || {
+        kernel
+            .cavity_tets()
+            .iter()
+            .any(|&t| (0..4).any(|i| fm.cons.is_constrained(t, i)))
+    };
+    if close || (c.layer > 0 && at_surface()) {
         return Ok(Err(3));
     }
     kernel.commit_cavity(&mut fm.mesh, &mut fm.cons, c.p)?;

@@ -199,3 +199,33 @@ fn print_random() {
         }
     }
 }
+
+/// A debugging aid: optimises $OPT_DEBUG_MESH (a .mesh written by `mesher mesh`) again
+/// from scratch, its boundary triangles constrained and their vertices fixed, and
+/// prints the worst Q_K before and after (what a second run would still gain).
+#[test]
+#[ignore]
+fn debug_worst_tet_of_a_file() {
+    let Ok(path) = std::env::var("OPT_DEBUG_MESH") else {
+        return;
+    };
+    let vm = crate::io::read_volume(std::path::Path::new(&path)).unwrap();
+    let mesh = TetMesh::from_tets(vm.vertices.clone(), &vm.tets).unwrap();
+    // from_tets puts the input tets first, then the ghosts (region 0).
+    let mut region = vec![1; vm.tets.len()];
+    region.resize(mesh.num_slots(), 0);
+    let mut fixed = vec![false; mesh.num_vertices()];
+    for t in &vm.triangles {
+        for &x in t {
+            fixed[x as usize] = true;
+        }
+    }
+    let mut d = Domain {
+        mesh,
+        region,
+        constrained: vm.triangles.clone(),
+        fixed,
+    };
+    let r = optimize(&mut d, &OptimizeOptions::default());
+    eprintln!("worst {} -> {}", r.worst_before, r.worst_after);
+}
