@@ -64,6 +64,12 @@ impl Ops {
             .fold(1.0, f64::max)
     }
 
+    /// [`Self::worst`] when it is below `bound`; otherwise some value `>= bound` (it
+    /// stops at the first tet that reaches the bound: a failed move is known early).
+    fn worst_below(&self, tets: &[u32], bound: f64) -> f64 {
+        max_until(tets.iter().map(|&t| self.quality(self.l.tet(t))), bound)
+    }
+
     /// Gives the tets of the last replace the region `r`.
     fn claim(&mut self, r: u32) {
         let n = self.l.mesh.num_slots();
@@ -178,13 +184,13 @@ impl Ops {
             _ => &[how],
         };
         let old = self.l.p(v);
-        let before = self.worst(&star);
-        let worst_face = star
+        let qs: Vec<f64> = star.iter().map(|&t| self.quality(self.l.tet(t))).collect();
+        let before = qs.iter().copied().fold(1.0, f64::max);
+        let worst_face = qs
             .iter()
             .zip(&link)
-            .map(|(&t, f)| (self.quality(self.l.tet(t)), *f))
-            .max_by(|a, b| a.0.total_cmp(&b.0))
-            .map(|w| w.1);
+            .max_by(|a, b| a.0.total_cmp(b.0))
+            .map(|w| *w.1);
         for &kind in tries {
             let target = match (kind, worst_face) {
                 (Smoothing::Off, Some(f)) => self.target(&[f], v, Smoothing::Optimal),
@@ -200,7 +206,7 @@ impl Ops {
                 let positive = link
                     .iter()
                     .all(|f| self.l.orient(f[0], f[1], f[2], v) == Orientation::Positive);
-                if positive && self.worst(&star) < before {
+                if positive && self.worst_below(&star, before) < before {
                     return true;
                 }
             }
@@ -274,7 +280,8 @@ impl Ops {
             if new.iter().any(|t| signed_volume(&pts(t)) <= 0.0) {
                 return f64::INFINITY;
             }
-            new.iter().map(|t| q_k(&pts(t))).fold(1.0, f64::max)
+            // Only a score below `before` is ever used: stop once it is reached.
+            max_until(new.iter().map(|t| q_k(&pts(t))), before)
         };
         let Some((after, p)) = candidates
             .into_iter()
@@ -325,4 +332,17 @@ impl Ops {
         let same = v != u32::MAX && t == self.l.p(v);
         (t.is_finite() && !same).then_some(t)
     }
+}
+
+/// `values.fold(1.0, f64::max)` when that is below `bound`; otherwise the running maximum
+/// at the first value that brings it to `bound` or above.
+fn max_until(values: impl Iterator<Item = f64>, bound: f64) -> f64 {
+    let mut m: f64 = 1.0;
+    for q in values {
+        m = m.max(q);
+        if m >= bound {
+            break;
+        }
+    }
+    m
 }
