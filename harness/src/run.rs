@@ -345,33 +345,34 @@ impl Context_ {
 }
 
 /// A model's input, read and measured once for all runners.
-type Prepared = Result<(PathBuf, Surface, InputMeasures, f64), String>;
+type Prepared = Result<(PathBuf, Surface, InputMeasures, f64), NotPrepared>;
+
+/// Why a model's input could not be prepared.
+enum NotPrepared {
+    /// The file is there but our reader refuses it (an empty file, a NaN coordinate):
+    /// ours still gets it, and must refuse it naming the defect; the peers' runners
+    /// convert their input with our reader, so they cannot be run on it.
+    Unreadable(String),
+    /// Anything else (a model error, a missing file).
+    Failed(String),
+}
 
 fn prepare(model: &Model) -> Prepared {
     if let Some(e) = &model.error {
-        return Err(e.clone());
+        return Err(NotPrepared::Failed(e.clone()));
     }
-    let path =
-        std::fs::canonicalize(&model.path).map_err(|e| format!("{}: {e}", model.path.display()))?;
-    let surface = match mesher::io::read_surface(&path) {
-        Ok(r) => r.surface,
-        // Our reader refuses the file (an empty file, a NaN coordinate): the runners
-        // still get it, to show what each peer makes of it; there is nothing to measure
-        // the input by, so the records carry no Q_t and the size is 1.
-        Err(e) if model.path.exists() => {
-            return Err(format!("{UNREADABLE}{e}"));
-        }
-        Err(e) => return Err(format!("reading the input: {e}")),
-    };
+    let path = std::fs::canonicalize(&model.path)
+        .map_err(|e| NotPrepared::Failed(format!("{}: {e}", model.path.display())))?;
+    let surface = mesher::io::read_surface(&path)
+        .map_err(|e| NotPrepared::Unreadable(format!("unreadable input: {e}")))?
+        .surface;
     let measures = metrics::measure_input(&surface);
     let h = crate::runners::input::mean_edge_length(&surface);
     Ok((path, surface, measures, h))
 }
 
-/// The start of [`prepare`]'s error for a file that exists but that our reader refuses.
-const UNREADABLE: &str = "unreadable input: ";
-
-/// The input measures of a file our reader refuses (not finite: not recorded).
+/// The input measures of a file our reader refuses: nothing to measure (its records
+/// carry no Q_t).
 fn unmeasured_input() -> InputMeasures {
     InputMeasures {
         q_t: f64::NAN,
@@ -392,23 +393,25 @@ fn run_one(
     let mut rec = blank_record(ctx, model, &info);
     let unreadable;
     let (path, surface, input, h) = match prepared {
-        Ok((p, s, i, h)) => (p, s, i, h),
-        // Ours reads the file itself and must refuse it, naming the defect; the peers'
-        // runners convert the input with our reader, so they cannot be run on it.
-        Err(e) if e.starts_with(UNREADABLE) && info.id.starts_with("ours") => {
+        Ok((p, s, i, h)) => {
+            rec.q_t = Some(i.q_t);
+            rec.hard_face_fraction = Some(i.hard_face_fraction);
+            (p, s, i, h)
+        }
+        Err(NotPrepared::Unreadable(_)) if info.id.starts_with("ours") => {
             unreadable = (model.path.clone(), Surface::default(), unmeasured_input());
             (&unreadable.0, &unreadable.1, &unreadable.2, &1.0)
         }
-        Err(e) if e.starts_with(UNREADABLE) => {
+        Err(NotPrepared::Unreadable(e)) => {
             let why = format!("not run: the peer's input is converted by our reader ({e})");
             return finish(rec, Status::Skipped, Some(why));
         }
-        Err(e) => return finish(rec, Status::InvalidOutput, Some(format!("input: {e}"))),
+        Err(NotPrepared::Failed(e)) => {
+            return finish(rec, Status::InvalidOutput, Some(format!("input: {e}")))
+        }
     };
     rec.input_vertices = surface.vertices.len();
     rec.input_faces = surface.triangles.len();
-    rec.q_t = Some(input.q_t).filter(|q| q.is_finite());
-    rec.hard_face_fraction = Some(input.hard_face_fraction).filter(|f| f.is_finite());
     rec.edge_length = Some(*h);
     let _ = std::fs::remove_dir_all(work);
     if let Err(e) = std::fs::create_dir_all(work) {

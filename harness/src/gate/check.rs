@@ -266,13 +266,7 @@ fn speed_ratio(
         .iter()
         .filter_map(|m| Some(speed(runner, m)? / speed(peer, m)?))
         .collect();
-    ratios.sort_by(f64::total_cmp);
-    let n = ratios.len();
-    match n {
-        0 => None,
-        _ if n % 2 == 1 => Some(ratios[n / 2]),
-        _ => Some(0.5 * (ratios[n / 2 - 1] + ratios[n / 2])),
-    }
+    (!ratios.is_empty()).then(|| mesher::quality::median(&mut ratios))
 }
 
 /// The speed check of one (runner, peer) pair over the models all four rows meshed.

@@ -351,22 +351,19 @@ fn propose(
                 if !ok {
                     continue;
                 }
-                let on_boundary = fm.cons.is_constrained(t, i as usize);
+                // A boundary face's own point: the first layer on the surface.
+                let bound = if fm.cons.is_constrained(t, i as usize) {
+                    params.delta_boundary
+                } else {
+                    f64::INFINITY
+                };
                 out.push(Candidate {
                     p,
                     h: hp,
                     k2: t,
                     layer: 0,
-                    delta_f: if on_boundary {
-                        params.delta_boundary.min(params.delta_f)
-                    } else {
-                        params.delta_f
-                    },
-                    delta_v: if on_boundary {
-                        params.delta_boundary.min(params.delta_v)
-                    } else {
-                        params.delta_v
-                    },
+                    delta_f: params.delta_f.min(bound),
+                    delta_v: params.delta_v.min(bound),
                 });
                 let mut prev = (p, hp);
                 for layer in 1..params.layers.min(16) as u8 {
@@ -403,22 +400,12 @@ fn filtrate(
     accept: &[bool],
     cands: &[Candidate],
 ) -> Vec<Candidate> {
-    let mut seen = vec![false; fm.mesh.num_vertices()];
-    let mut verts = Vec::new();
     let all = params.filter_all_vertices;
-    for t in 0..if all { fm.mesh.num_slots() as u32 } else { 0 } {
-        if accept[t as usize] || fm.cons.region[t as usize] == 0 || !fm.mesh.is_alive(TetId(t)) {
-            continue;
-        }
-        for v in fm.mesh.raw_tet(t) {
-            if let Some(s) = seen.get_mut(v as usize) {
-                if !*s {
-                    *s = true;
-                    verts.push(v as usize);
-                }
-            }
-        }
-    }
+    let verts = if all {
+        unacceptable_vertices(fm, accept)
+    } else {
+        Vec::new()
+    };
     let h_max = cands
         .iter()
         .map(|c| c.h)
@@ -441,6 +428,24 @@ fn filtrate(
         }
     }
     out
+}
+
+/// The vertices of the unacceptable domain tets, each once, in increasing tet order.
+fn unacceptable_vertices(fm: &FieldMesh, accept: &[bool]) -> Vec<usize> {
+    let mut seen = vec![false; fm.h.len()];
+    let mut verts = Vec::new();
+    for t in 0..fm.mesh.num_slots() as u32 {
+        if accept[t as usize] || fm.cons.region[t as usize] == 0 || !fm.mesh.is_alive(TetId(t)) {
+            continue;
+        }
+        for v in fm.mesh.raw_tet(t).map(|v| v as usize) {
+            if v < seen.len() && !seen[v] {
+                seen[v] = true;
+                verts.push(v);
+            }
+        }
+    }
+    verts
 }
 
 /// Inserts one field point; the inner result says why it was dropped (an index into

@@ -153,7 +153,10 @@ pub fn optimize(domain: &mut Domain, options: &OptimizeOptions) -> OptimizeRepor
     // Polishing: a tet that failed once is never retried by the main passes, though the
     // operations around it since may have opened a way (re-optimising armadillo's output
     // from scratch took its worst Q_K from 112 to 16). Retry the worst ones only.
-    let mut worst = histogram(&ops).1;
+    let mut worst = match passes.last() {
+        Some(p) => p.worst,
+        None => histogram(&ops).1,
+    };
     for _ in 0..options.polish_passes {
         let tp = Instant::now();
         failed.clear();

@@ -28,9 +28,9 @@ pub use length::{
     normalized_length_polyline, NEAR_EQUAL_RATIO_HIGH, NEAR_EQUAL_RATIO_LOW,
 };
 pub use summary::{
-    edge_length_histogram, edge_length_stats, mesh_edge_length_stats, summarize, summarize_tets,
-    surface_edge_length_histogram, unique_tet_edges, unique_triangle_edges, EdgeLengthStats,
-    QualitySummary, SummaryBuilder,
+    edge_length_histogram, edge_length_stats, median, mesh_edge_length_stats, summarize,
+    summarize_tets, surface_edge_length_histogram, unique_tet_edges, unique_triangle_edges,
+    EdgeLengthStats, QualitySummary, SummaryBuilder,
 };
 pub use target::{face_best_q_k, target_quality, TargetQuality};
 pub use tet::{

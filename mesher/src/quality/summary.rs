@@ -155,7 +155,7 @@ impl SummaryBuilder {
 }
 
 /// Median of values without NaN (NaN for none); reorders `v`.
-fn median(v: &mut [f64]) -> f64 {
+pub fn median(v: &mut [f64]) -> f64 {
     let n = v.len();
     if n == 0 {
         return f64::NAN;
