@@ -10,7 +10,7 @@
 use std::path::{Path, PathBuf};
 
 /// Compiler settings of [`build`], part of the Mesh_3 cache key: keep them in sync.
-const FLAGS: &str = "c++17 -O2 -DNDEBUG";
+const FLAGS: &str = "c++17 -O2 -DNDEBUG -g0 -pipe";
 
 fn main() {
     println!("cargo::rustc-check-cfg=cfg(has_cgal)");
@@ -50,6 +50,11 @@ fn build(include: &Path) -> cc::Build {
         .include(include)
         .opt_level(2)
         .define("NDEBUG", None)
+        // No debug info: with it Mesh_3's object is ~130 MB and the assembler file gcc
+        // writes to /tmp on the way is larger still, which once filled a CI machine's
+        // disk. -pipe keeps that intermediate file off the disk altogether.
+        .debug(false)
+        .flag_if_supported("-pipe")
         // CGAL headers are noisy under -Wall; the drivers themselves are tiny.
         .warnings(false);
     b
