@@ -9,6 +9,7 @@
 //! order.
 
 use crate::geom::{Aabb, Point};
+use rayon::prelude::*;
 
 /// Bits per coordinate of the Hilbert key (3 x 21 = 63 bits).
 const HILBERT_BITS: u32 = 21;
@@ -100,8 +101,10 @@ pub fn hilbert_keys(points: &[Point]) -> Vec<u64> {
         0.0
     };
     let q = |v: f64, lo: f64| (((v - lo) * scale) as u32).min((1 << HILBERT_BITS) - 1);
+    // Pure per point, so the threads change nothing in the result.
     points
-        .iter()
+        .par_iter()
+        .with_min_len(4096)
         .map(|p| {
             if p.is_finite() {
                 hilbert_key([q(p.x, bb.min.x), q(p.y, bb.min.y), q(p.z, bb.min.z)])
@@ -114,9 +117,15 @@ pub fn hilbert_keys(points: &[Point]) -> Vec<u64> {
 
 /// Indices of `points` in Hilbert order (ties by index, deterministic).
 pub fn hilbert_order(points: &[Point]) -> Vec<u32> {
+    hilbert_order_by(points, |_| 0)
+}
+
+/// Indices of `points` sorted by `major(i)`, then along the Hilbert curve (ties by
+/// index: the order is total, so the parallel sort is deterministic).
+pub fn hilbert_order_by(points: &[Point], major: impl Fn(usize) -> u8 + Sync) -> Vec<u32> {
     let keys = hilbert_keys(points);
     let mut idx: Vec<u32> = (0..points.len() as u32).collect();
-    idx.sort_unstable_by_key(|&i| (keys[i as usize], i));
+    idx.par_sort_unstable_by_key(|&i| (major(i as usize), keys[i as usize], i));
     idx
 }
 
@@ -138,7 +147,7 @@ pub fn brio_order(points: &[Point], seed: u64) -> Vec<u32> {
         } else {
             end / BRIO_RATIO
         };
-        idx[start..end].sort_unstable_by_key(|&i| (keys[i as usize], i));
+        idx[start..end].par_sort_unstable_by_key(|&i| (keys[i as usize], i));
         if start == 0 {
             break;
         }

@@ -37,7 +37,20 @@ impl Hasher for CellHasher {
     }
 }
 
-type CellMap = HashMap<[i64; 3], Vec<u32>, BuildHasherDefault<CellHasher>>;
+/// A cell's integer coordinates. Hashed as three words: the derived hash of an array
+/// of integers goes through `Hasher::write` byte by byte, 24 rounds per key.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Cell([i64; 3]);
+
+impl std::hash::Hash for Cell {
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        for k in self.0 {
+            state.write_i64(k);
+        }
+    }
+}
+
+type CellMap = HashMap<Cell, Vec<u32>, BuildHasherDefault<CellHasher>>;
 
 /// Cells per axis on each side of a point's own cell, at most.
 pub const MAX_SPAN: i64 = 8;
@@ -81,7 +94,7 @@ impl Grid {
         }
         let id = self.vertices.len() as u32 | VERTEX_BIT;
         self.vertices.push((p, h));
-        let key = [p.x, p.y, p.z].map(|c| self.key(c));
+        let key = Cell([p.x, p.y, p.z].map(|c| self.key(c)));
         self.cells.entry(key).or_default().push(id);
     }
 
@@ -113,7 +126,7 @@ impl Grid {
         for x in rg[0].0..=rg[0].1 {
             for y in rg[1].0..=rg[1].1 {
                 for z in rg[2].0..=rg[2].1 {
-                    let Some(list) = self.cells.get(&[x, y, z]) else {
+                    let Some(list) = self.cells.get(&Cell([x, y, z])) else {
                         continue;
                     };
                     for &k in list {
@@ -122,7 +135,7 @@ impl Grid {
                         } else {
                             (self.kept[k as usize], delta_f)
                         };
-                        if normalized_length(p.distance(q), h, hq) < limit {
+                        if close(p, q, h, hq, limit) {
                             return false;
                         }
                     }
@@ -131,7 +144,7 @@ impl Grid {
         }
         let id = self.kept.len() as u32;
         self.kept.push((p, h));
-        let key = [p.x, p.y, p.z].map(|c| self.key(c));
+        let key = Cell([p.x, p.y, p.z].map(|c| self.key(c)));
         self.cells.entry(key).or_default().push(id);
         true
     }
@@ -140,6 +153,22 @@ impl Grid {
     pub fn kept(&self) -> &[(Point, f64)] {
         &self.kept
     }
+}
+
+/// `l(PQ) < limit`, the logarithm of [`normalized_length`] only when the bounds
+/// `|PQ| / max(h) <= l <= |PQ| / min(h)` do not decide it.
+#[inline]
+fn close(p: Point, q: Point, hp: f64, hq: f64, limit: f64) -> bool {
+    let d2 = p.distance_squared(q);
+    let far = limit * hp.max(hq);
+    if d2 >= far * far {
+        return false;
+    }
+    let near = limit * hp.min(hq);
+    if d2 < near * near {
+        return true;
+    }
+    normalized_length(d2.sqrt(), hp, hq) < limit
 }
 
 #[cfg(test)]

@@ -248,11 +248,10 @@ pub fn advance(
         // insertion in BRIO order (random rounds, Hilbert inside each): the first big
         // cavities are broken up early, and neighbouring insertions touch neighbouring
         // tets.
-        let mut ordered = reorder(&cands, None);
-        ordered.sort_by_key(|c| c.layer);
+        let ordered = by_layer_then_hilbert(&cands);
         let kept = filtrate(fm, params, &accept, &ordered);
         rec.filtered = cands.len() - kept.len();
-        let kept = reorder(&kept, Some(0x5EED ^ it as u64));
+        let kept = reorder(&kept, 0x5EED ^ it as u64);
         for c in kept {
             match insert(&mut kernel, fm, c)? {
                 Ok(()) => {
@@ -285,13 +284,18 @@ pub fn advance(
     Ok(report)
 }
 
-/// The candidates in Hilbert order (`seed` None) or BRIO order.
-fn reorder(cands: &[Candidate], seed: Option<u64>) -> Vec<Candidate> {
+/// The candidates in BRIO order.
+fn reorder(cands: &[Candidate], seed: u64) -> Vec<Candidate> {
     let pts: Vec<Point> = cands.iter().map(|c| c.p).collect();
-    let order = match seed {
-        None => crate::delaunay::sort::hilbert_order(&pts),
-        Some(s) => crate::delaunay::sort::brio_order(&pts, s),
-    };
+    let order = crate::delaunay::sort::brio_order(&pts, seed);
+    order.into_iter().map(|i| cands[i as usize]).collect()
+}
+
+/// The candidates by layer (the optimal points first), each layer along the Hilbert
+/// curve.
+fn by_layer_then_hilbert(cands: &[Candidate]) -> Vec<Candidate> {
+    let pts: Vec<Point> = cands.iter().map(|c| c.p).collect();
+    let order = crate::delaunay::sort::hilbert_order_by(&pts, |i| cands[i].layer);
     order.into_iter().map(|i| cands[i as usize]).collect()
 }
 
@@ -456,18 +460,25 @@ fn insert(
     c: Candidate,
 ) -> Result<Result<(), usize>, FrontError> {
     let hint = fm.mesh.is_alive(TetId(c.k2)).then_some(TetId(c.k2));
-    if let Err(r) = kernel.constrained_cavity(&fm.mesh, &fm.cons, c.p, hint) {
+    let (mesh, cons, h) = (&fm.mesh, &fm.cons, &fm.h);
+    // Refused as soon as the conflict region reaches a vertex too close to the point
+    // (most refusals: known at the first such tet, not after the whole cavity).
+    let mut veto = |t: u32| {
+        mesh.raw_tet(t).iter().any(|&v| {
+            let (q, hq) = (mesh.points()[v as usize], h[v as usize]);
+            let d = c.p.distance(q);
+            // l >= d / max(h_p, h_q): most vertices are excluded without the log.
+            d < c.delta_v * c.h.max(hq) && normalized_length(d, c.h, hq) < c.delta_v
+        })
+    };
+    if let Err(r) = kernel.constrained_cavity_with(mesh, cons, c.p, hint, &mut veto) {
         return Ok(Err(match r {
             Rejection::Outside => 0,
             Rejection::Emptied => 1,
             Rejection::NotBall => 2,
-            Rejection::OnVertex => 3,
+            Rejection::OnVertex | Rejection::Vetoed => 3,
         }));
     }
-    let points = fm.mesh.points();
-    let close = kernel.cavity_vertices().any(|v| {
-        normalized_length(c.p.distance(points[v.index()]), c.h, fm.h[v.index()]) < c.delta_v
-    });
     // A deeper-layer point whose cavity reaches the surface is near it (in a thin part,
     // or past a curved front): the boundary faces' own points place that layer, and a
     // deep point there makes flat tets on faces whose vertices never move.
@@ -477,7 +488,7 @@ fn insert(
             .iter()
             .any(|&t| (0..4).any(|i| fm.cons.is_constrained(t, i)))
     };
-    if close || (c.layer > 0 && at_surface()) {
+    if c.layer > 0 && at_surface() {
         return Ok(Err(3));
     }
     kernel.commit_cavity(&mut fm.mesh, &mut fm.cons, c.p)?;

@@ -197,10 +197,7 @@ fn pass(
         .mesh
         .finite_tets()
         .filter(|t| ops.region_of(t.0) != 0)
-        .map(|t| {
-            let v = ops.l.tet(t.0);
-            (ops.quality(v), t.0, v)
-        })
+        .map(|t| (ops.tet_quality(t.0), t.0, ops.l.tet(t.0)))
         .filter(|b| b.0 > bar)
         .collect();
     bad.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
@@ -268,7 +265,7 @@ fn histogram(ops: &Ops) -> (Histogram, f64) {
         if ops.region_of(t.0) == 0 {
             continue;
         }
-        let q = ops.quality(ops.l.tet(t.0));
+        let q = ops.tet_quality(t.0);
         h.add(q);
         worst = worst.max(q);
     }

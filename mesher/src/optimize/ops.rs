@@ -19,6 +19,7 @@ use crate::geom::predicates::Orientation;
 use crate::geom::Point;
 use crate::quality::tet::{q_k, signed_volume};
 use crate::tetmesh::{FaceRef, VertexId, FACE_VERTICES};
+use std::cell::Cell;
 
 /// Height of the regular tet over a face of edge `h`, over `h`: sqrt(2/3).
 const REGULAR_HEIGHT: f64 = 0.816_496_580_927_726;
@@ -35,17 +36,48 @@ pub(super) struct Ops {
     /// Vertices that never move (on the boundary, box corners).
     pub fixed: Vec<bool>,
     scratch: Vec<u32>,
+    /// Per tet slot: the vertices it had and its `Q_K` when last computed. An entry
+    /// whose vertices differ from the slot's (the slot was reused) is stale; a moved
+    /// vertex clears its ball's entries ([`Self::smooth`]). The passes rescan every tet,
+    /// and most of them are unchanged since the last scan.
+    qcache: Vec<Cell<([u32; 4], f64)>>,
 }
+
+/// A [`Ops::qcache`] entry that matches no tet.
+const STALE: ([u32; 4], f64) = ([u32::MAX; 4], 0.0);
 
 impl Ops {
     pub fn new(l: Local, locks: Locks, region: Vec<u32>, fixed: Vec<bool>) -> Self {
+        let qcache = vec![Cell::new(STALE); l.mesh.num_slots()];
         Ops {
             l,
             locks,
             region,
             fixed,
             scratch: Vec::new(),
+            qcache,
         }
+    }
+
+    /// `Q_K` of the tet in slot `t`, from the cache when the slot is unchanged.
+    pub fn tet_quality(&self, t: u32) -> f64 {
+        let v = self.l.tet(t);
+        let Some(entry) = self.qcache.get(t as usize) else {
+            return self.quality(v);
+        };
+        let (cached, q) = entry.get();
+        if cached == v {
+            // Tests run with debug assertions: any missed invalidation shows here.
+            debug_assert_eq!(
+                q.to_bits(),
+                self.quality(v).to_bits(),
+                "stale Q_K of tet {t}"
+            );
+            return q;
+        }
+        let q = self.quality(v);
+        entry.set((v, q));
+        q
     }
 
     /// `Q_K` of a tet given by its vertices.
@@ -60,12 +92,13 @@ impl Ops {
 
     fn worst(&self, tets: &[u32]) -> f64 {
         tets.iter()
-            .map(|&t| self.quality(self.l.tet(t)))
+            .map(|&t| self.tet_quality(t))
             .fold(1.0, f64::max)
     }
 
     /// [`Self::worst`] when it is below `bound`; otherwise some value `>= bound` (it
     /// stops at the first tet that reaches the bound: a failed move is known early).
+    /// Never from the cache: smoothing calls it with the vertex at a trial position.
     fn worst_below(&self, tets: &[u32], bound: f64) -> f64 {
         max_until(tets.iter().map(|&t| self.quality(self.l.tet(t))), bound)
     }
@@ -75,6 +108,9 @@ impl Ops {
         let n = self.l.mesh.num_slots();
         if self.region.len() < n {
             self.region.resize(n, 0);
+        }
+        if self.qcache.len() < n {
+            self.qcache.resize(n, Cell::new(STALE));
         }
         for &t in &self.l.created {
             self.region[t as usize] = r;
@@ -184,7 +220,7 @@ impl Ops {
             _ => &[how],
         };
         let old = self.l.p(v);
-        let qs: Vec<f64> = star.iter().map(|&t| self.quality(self.l.tet(t))).collect();
+        let qs: Vec<f64> = star.iter().map(|&t| self.tet_quality(t)).collect();
         let before = qs.iter().copied().fold(1.0, f64::max);
         let worst_face = qs
             .iter()
@@ -207,6 +243,11 @@ impl Ops {
                     .iter()
                     .all(|f| self.l.orient(f[0], f[1], f[2], v) == Orientation::Positive);
                 if positive && self.worst_below(&star, before) < before {
+                    for &t in &star {
+                        if let Some(entry) = self.qcache.get(t as usize) {
+                            entry.set(STALE);
+                        }
+                    }
                     return true;
                 }
             }

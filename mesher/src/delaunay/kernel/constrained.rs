@@ -63,6 +63,9 @@ pub enum Rejection {
     Emptied,
     /// The corrected cavity is not a topological ball.
     NotBall,
+    /// The caller's veto refused a tet of the cavity
+    /// ([`Kernel::constrained_cavity_with`]).
+    Vetoed,
 }
 
 /// Bound on the correction rounds, relative to the cavity size.
@@ -78,6 +81,22 @@ impl Kernel {
         cons: &Constraints,
         p: Point,
         hint: Option<TetId>,
+    ) -> Result<(), Rejection> {
+        self.constrained_cavity_with(mesh, cons, p, hint, &mut |_| false)
+    }
+
+    /// [`Self::constrained_cavity`], rejecting the point ([`Rejection::Vetoed`]) as soon
+    /// as `veto` is true for a tet that enters the conflict region (before the
+    /// correction, which may remove tets again: the veto is the stricter for it). A
+    /// caller that would refuse a point for a vertex or a face of its cavity learns it
+    /// here at the first such tet, not after the whole cavity is built.
+    pub fn constrained_cavity_with(
+        &mut self,
+        mesh: &TetMesh,
+        cons: &Constraints,
+        p: Point,
+        hint: Option<TetId>,
+        veto: &mut dyn FnMut(u32) -> bool,
     ) -> Result<(), Rejection> {
         if crate::delaunay::check_point(0, p).is_err() {
             // A point with a NaN, infinite or out-of-range coordinate is in no tet of
@@ -97,8 +116,11 @@ impl Kernel {
         if cons.region.get(start as usize).copied().unwrap_or(0) == 0 {
             return Err(Rejection::Outside);
         }
-        self.grow_constrained(mesh, cons, p, start);
-        let r = self.correct_cavity(mesh, cons, p, start);
+        let r = if self.grow_constrained(mesh, cons, p, start, veto) {
+            self.correct_cavity(mesh, cons, p, start)
+        } else {
+            Err(Rejection::Vetoed)
+        };
         for &t in self.cavity.iter().chain(&self.touched) {
             self.marks[t as usize] = 0;
         }
@@ -160,7 +182,15 @@ impl Kernel {
 
     /// Grows the conflict region of `p` from `start` without crossing a constrained
     /// face or leaving the start's region; tets tested and refused go to `touched`.
-    fn grow_constrained(&mut self, mesh: &TetMesh, cons: &Constraints, p: Point, start: u32) {
+    /// Returns false, the cavity partial, at the first tet `veto` refuses.
+    fn grow_constrained(
+        &mut self,
+        mesh: &TetMesh,
+        cons: &Constraints,
+        p: Point,
+        start: u32,
+        veto: &mut dyn FnMut(u32) -> bool,
+    ) -> bool {
         self.ensure_marks(mesh);
         let filter = self.filter_for(p);
         let region = cons.region[start as usize];
@@ -168,8 +198,11 @@ impl Kernel {
         self.stack.clear();
         self.touched.clear();
         self.marks[start as usize] = IN;
-        self.stack.push(start);
         self.cavity.push(start);
+        if veto(start) {
+            return false;
+        }
+        self.stack.push(start);
         while let Some(c) = self.stack.pop() {
             let adj = mesh.raw_adj(c);
             let mask = cons.face_mask[c as usize];
@@ -188,8 +221,12 @@ impl Kernel {
                     && cons.region[u as usize] == region;
                 if ok {
                     self.marks[u as usize] = IN;
-                    self.stack.push(u);
                     self.cavity.push(u);
+                    if veto(u) {
+                        self.stats.cavity_tets += self.cavity.len() as u64;
+                        return false;
+                    }
+                    self.stack.push(u);
                 } else {
                     self.marks[u as usize] = OUT;
                     self.touched.push(u);
@@ -197,6 +234,7 @@ impl Kernel {
             }
         }
         self.stats.cavity_tets += self.cavity.len() as u64;
+        true
     }
 
     /// Shrinks the cavity until it is star-shaped with respect to `p` and loses no
@@ -412,6 +450,29 @@ mod tests {
         // Each constrained face is listed from both sides, before and after.
         assert_eq!(constrained_faces(&mesh, &cons), before);
         assert!(k.new_tets().iter().all(|&n| cons.region[n as usize] == 1));
+    }
+
+    #[test]
+    fn a_veto_refuses_the_point_and_leaves_the_kernel_usable() {
+        let (mut mesh, mut cons) = grid();
+        let mut k = Kernel::new();
+        let p = mesh.finite_tets().find_map(|t| {
+            let q = mesh.tet_points(t);
+            (cons.region[t.index()] != 0).then(|| (q[0] + q[1] + q[2] + q[3]) / 4.0)
+        });
+        let p = p.expect("a domain tet");
+        let mut seen = 0;
+        let mut veto = |_t: u32| {
+            seen += 1;
+            true
+        };
+        let r = k.constrained_cavity_with(&mesh, &cons, p, None, &mut veto);
+        assert_eq!(r, Err(Rejection::Vetoed));
+        assert_eq!(seen, 1, "the growth stops at the first refused tet");
+        // Marks were reset: the same point goes in without a veto.
+        k.constrained_cavity(&mesh, &cons, p, None).unwrap();
+        k.commit_cavity(&mut mesh, &mut cons, p).unwrap();
+        mesh.validate(false).unwrap();
     }
 
     #[test]
