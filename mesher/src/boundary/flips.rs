@@ -215,6 +215,18 @@ pub(crate) fn best_triangulation(
     idx: &[usize],
     q: &impl Fn(usize, usize, usize) -> f64,
 ) -> Option<Vec<[usize; 3]>> {
+    best_triangulation_above(idx, q, 0.0)
+}
+
+/// [`best_triangulation`], `None` unless the best smallest `q` is above `floor`
+/// (`floor >= 0`). A triangle is evaluated only when it could raise its sub-polygon's
+/// value above both the best found so far and `floor`; the choice among the
+/// triangulations above `floor` (ties included) is the unpruned one.
+pub(crate) fn best_triangulation_above(
+    idx: &[usize],
+    q: &impl Fn(usize, usize, usize) -> f64,
+    floor: f64,
+) -> Option<Vec<[usize; 3]>> {
     let m = idx.len();
     if m < 3 {
         return Some(Vec::new());
@@ -228,9 +240,11 @@ pub(crate) fn best_triangulation(
         for i in 0..m - len {
             let j = i + len;
             for k in i + 1..j {
-                let v = best[i * m + k]
-                    .min(best[k * m + j])
-                    .min(q(idx[i], idx[k], idx[j]));
+                let sides = best[i * m + k].min(best[k * m + j]);
+                if sides <= best[i * m + j] || sides <= floor {
+                    continue;
+                }
+                let v = sides.min(q(idx[i], idx[k], idx[j]));
                 if v > best[i * m + j] {
                     best[i * m + j] = v;
                     arg[i * m + j] = k;
@@ -238,7 +252,7 @@ pub(crate) fn best_triangulation(
             }
         }
     }
-    if best[m - 1] <= 0.0 {
+    if !(best[m - 1] > floor.max(0.0)) {
         return None;
     }
     let mut out = Vec::with_capacity(m - 2);
@@ -269,5 +283,64 @@ mod tests {
         assert!(f.contains(&[0, 2, 4]));
         let bad = |i: usize, _: usize, _: usize| if i == 0 { -1.0 } else { 1.0 };
         assert!(best_triangulation(&[0, 1, 2], &bad).is_none());
+    }
+
+    /// The unpruned program, as a reference: (best value, triangles).
+    fn reference(m: usize, q: &impl Fn(usize, usize, usize) -> f64) -> (f64, Vec<[usize; 3]>) {
+        let mut best = vec![f64::NEG_INFINITY; m * m];
+        let mut arg = vec![0usize; m * m];
+        for i in 0..m - 1 {
+            best[i * m + i + 1] = f64::INFINITY;
+        }
+        for len in 2..m {
+            for i in 0..m - len {
+                let j = i + len;
+                for k in i + 1..j {
+                    let v = best[i * m + k].min(best[k * m + j]).min(q(i, k, j));
+                    if v > best[i * m + j] {
+                        best[i * m + j] = v;
+                        arg[i * m + j] = k;
+                    }
+                }
+            }
+        }
+        let mut out = Vec::new();
+        let mut stack = vec![(0, m - 1)];
+        while let Some((i, j)) = stack.pop() {
+            if j - i >= 2 {
+                let k = arg[i * m + j];
+                out.push([i, k, j]);
+                stack.push((i, k));
+                stack.push((k, j));
+            }
+        }
+        (best[m - 1], out)
+    }
+
+    #[test]
+    fn pruning_keeps_the_unpruned_choice_above_the_floor() {
+        let mut s = 7u64;
+        for m in 3..11 {
+            for round in 0..200 {
+                // Few distinct values, so ties are common.
+                let salt = s;
+                let q = move |i: usize, j: usize, k: usize| {
+                    let h = (i * 131 + j * 31 + k * 7) as u64 ^ salt;
+                    let h = h.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 59;
+                    h as f64 / 8.0 - 0.5
+                };
+                s = s.wrapping_mul(6364136223846793005).wrapping_add(round);
+                let (value, tris) = reference(m, &q);
+                let idx: Vec<usize> = (0..m).collect();
+                for floor in [0.0, 0.25, 0.75, 1.5] {
+                    let got = best_triangulation_above(&idx, &q, floor);
+                    if value > floor {
+                        assert_eq!(got.as_ref(), Some(&tris), "m {m} floor {floor}");
+                    } else {
+                        assert!(got.is_none(), "m {m} floor {floor}");
+                    }
+                }
+            }
+        }
     }
 }

@@ -237,21 +237,39 @@ impl Local {
     /// touches the hull.
     pub fn ring(&self, a: u32, b: u32, scratch: &mut Vec<u32>) -> Option<Vec<(u32, u32)>> {
         let t0 = self.find_edge(a, b, scratch)?;
-        let mut ring = Vec::new();
+        self.ring_from(t0, a, b)
+    }
+
+    /// [`Self::ring`] from a tet `t0` known to hold the edge `ab` (no search).
+    fn ring_from(&self, t0: u32, a: u32, b: u32) -> Option<Vec<(u32, u32)>> {
+        let mut ring = Vec::with_capacity(8);
         let mut t = t0;
         loop {
             if self.is_ghost(t) || ring.len() > 4096 {
                 return None;
             }
             let v = self.tet(t);
-            let others: Vec<usize> = (0..4).filter(|&i| v[i] != a && v[i] != b).collect();
-            let (mut p, mut q) = (v[others[0]], v[others[1]]);
-            if self.orient(a, b, p, q) != Orientation::Positive {
-                std::mem::swap(&mut p, &mut q);
-            }
+            let ia = v.iter().position(|&x| x == a)?;
+            let ib = v.iter().position(|&x| x == b)?;
+            let mut others = (0..4).filter(|&i| i != ia && i != ib);
+            let (i, j) = (others.next()?, others.next()?);
+            // Every live finite tet is positive, so (a, b, v[i], v[j]) is positive
+            // exactly when (ia, ib, i, j) is an even permutation of (0, 1, 2, 3): the
+            // orientation follows from the vertex order, with no predicate.
+            let order = [ia, ib, i, j];
+            let inversions = (0..4)
+                .flat_map(|x| (x + 1..4).map(move |y| (x, y)))
+                .filter(|&(x, y)| order[x] > order[y])
+                .count();
+            let (ip, iq) = if inversions % 2 == 0 { (i, j) } else { (j, i) };
+            let p = v[ip];
+            debug_assert_eq!(
+                self.orient(a, b, p, v[iq]),
+                Orientation::Positive,
+                "tet {t} is not positive"
+            );
             ring.push((t, p));
             // The next tet shares face (a, b, q): across the face opposite p.
-            let ip = (0..4).find(|&i| v[i] == p)?;
             t = FaceRef::from_raw(self.adj(t)[ip]).tet().0;
             if t == t0 {
                 return Some(ring);

@@ -123,29 +123,35 @@ impl Grid {
         let delta_v = delta_v.min(self.delta_v);
         let r = self.delta_f.max(self.delta_v) * h.max(self.h_max);
         let rg = self.range(p, r);
+        let near = |list: &Vec<u32>| {
+            list.iter().any(|&k| {
+                let ((q, hq), limit) = if k & VERTEX_BIT != 0 {
+                    (self.vertices[(k & !VERTEX_BIT) as usize], delta_v)
+                } else {
+                    (self.kept[k as usize], delta_f)
+                };
+                close(p, q, h, hq, limit)
+            })
+        };
+        // The point's own cell first: most dropped points have their close neighbour
+        // there, and the answer does not depend on the order.
+        let own = Cell([p.x, p.y, p.z].map(|c| self.key(c)));
+        if self.cells.get(&own).is_some_and(near) {
+            return false;
+        }
         for x in rg[0].0..=rg[0].1 {
             for y in rg[1].0..=rg[1].1 {
                 for z in rg[2].0..=rg[2].1 {
-                    let Some(list) = self.cells.get(&Cell([x, y, z])) else {
-                        continue;
-                    };
-                    for &k in list {
-                        let ((q, hq), limit) = if k & VERTEX_BIT != 0 {
-                            (self.vertices[(k & !VERTEX_BIT) as usize], delta_v)
-                        } else {
-                            (self.kept[k as usize], delta_f)
-                        };
-                        if close(p, q, h, hq, limit) {
-                            return false;
-                        }
+                    let cell = Cell([x, y, z]);
+                    if cell != own && self.cells.get(&cell).is_some_and(near) {
+                        return false;
                     }
                 }
             }
         }
         let id = self.kept.len() as u32;
         self.kept.push((p, h));
-        let key = Cell([p.x, p.y, p.z].map(|c| self.key(c)));
-        self.cells.entry(key).or_default().push(id);
+        self.cells.entry(own).or_default().push(id);
         true
     }
 

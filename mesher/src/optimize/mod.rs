@@ -215,7 +215,8 @@ fn pass(
         if failed.contains(&key) {
             continue;
         }
-        if improve(ops, t, v, options, &mut stats) {
+        let ok = improve(ops, t, v, options, &mut stats);
+        if ok {
             ops.l.forget();
         } else {
             failed.insert(key);

@@ -13,7 +13,7 @@
 //!   of a few halving steps that improves the ball.
 
 use super::Smoothing;
-use crate::boundary::flips::{best_triangulation, Locks, MAX_RING};
+use crate::boundary::flips::{best_triangulation_above, Locks, MAX_RING};
 use crate::boundary::local::Local;
 use crate::geom::predicates::Orientation;
 use crate::geom::Point;
@@ -117,7 +117,10 @@ impl Ops {
         }
     }
 
-    /// Removes edge `xy` if the best re-triangulation of its ring is better.
+    /// Removes edge `xy` if the best re-triangulation of its ring is better. (The ring
+    /// starts where [`Local::ring`] finds the edge: starting it elsewhere, say at the bad
+    /// tet, rotates the polygon, which changes the choice among equally good
+    /// triangulations and so the whole run.)
     pub fn remove_edge(&mut self, x: u32, y: u32) -> bool {
         if self.locks.edge(x, y) {
             return false;
@@ -144,12 +147,18 @@ impl Ops {
                 -1.0
             }
         };
+        // Only a triangulation whose worst 1/Q_K beats the ring's is of use.
+        let floor = 1.0 / before;
         let q = |i: usize, j: usize, k: usize| -> f64 {
             let (a, b, c) = (pts[i], pts[j], pts[k]);
-            inv([a, b, c, py]).min(inv([b, a, c, px]))
+            let up = inv([a, b, c, py]);
+            if up <= floor {
+                return up;
+            }
+            up.min(inv([b, a, c, px]))
         };
         let idx: Vec<usize> = (0..poly.len()).collect();
-        let Some(tris) = best_triangulation(&idx, &q) else {
+        let Some(tris) = best_triangulation_above(&idx, &q, floor) else {
             return false;
         };
         let mut new = Vec::with_capacity(tris.len() * 2);
@@ -239,10 +248,13 @@ impl Ops {
             for s in STEPS {
                 let p = old + (target - old) * s;
                 self.l.mesh.set_point(VertexId(v), p);
-                let positive = link
-                    .iter()
-                    .all(|f| self.l.orient(f[0], f[1], f[2], v) == Orientation::Positive);
-                if positive && self.worst_below(&star, before) < before {
+                // The quality first (Q_K is orientation-blind, so the exact orientation
+                // test is still needed, but only for the few moves that improve).
+                let positive = || {
+                    link.iter()
+                        .all(|f| self.l.orient(f[0], f[1], f[2], v) == Orientation::Positive)
+                };
+                if self.worst_below(&star, before) < before && positive() {
                     for &t in &star {
                         if let Some(entry) = self.qcache.get(t as usize) {
                             entry.set(STALE);
