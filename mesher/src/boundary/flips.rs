@@ -252,7 +252,8 @@ pub(crate) fn best_triangulation_above(
             }
         }
     }
-    if !(best[m - 1] > floor.max(0.0)) {
+    let top = best[m - 1];
+    if top.is_nan() || top <= floor.max(0.0) {
         return None;
     }
     let mut out = Vec::with_capacity(m - 2);

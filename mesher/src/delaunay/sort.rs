@@ -124,9 +124,14 @@ pub fn hilbert_order(points: &[Point]) -> Vec<u32> {
 /// index: the order is total, so the parallel sort is deterministic).
 pub fn hilbert_order_by(points: &[Point], major: impl Fn(usize) -> u8 + Sync) -> Vec<u32> {
     let keys = hilbert_keys(points);
-    let mut idx: Vec<u32> = (0..points.len() as u32).collect();
-    idx.par_sort_unstable_by_key(|&i| (major(i as usize), keys[i as usize], i));
-    idx
+    // The sort keys inline (not looked up through the index): a sequential sort.
+    let mut items: Vec<(u8, u64, u32)> = keys
+        .into_iter()
+        .enumerate()
+        .map(|(i, k)| (major(i), k, i as u32))
+        .collect();
+    items.par_sort_unstable();
+    items.into_iter().map(|x| x.2).collect()
 }
 
 /// Indices of `points` in BRIO order: seeded shuffle, rounds growing by [`BRIO_RATIO`],
@@ -134,7 +139,7 @@ pub fn hilbert_order_by(points: &[Point], major: impl Fn(usize) -> u8 + Sync) ->
 pub fn brio_order(points: &[Point], seed: u64) -> Vec<u32> {
     let keys = hilbert_keys(points);
     let n = points.len();
-    let mut idx: Vec<u32> = (0..n as u32).collect();
+    let mut idx: Vec<(u64, u32)> = keys.into_iter().zip(0..n as u32).collect();
     let mut rng = SplitMix64::new(seed);
     for i in (1..n).rev() {
         let j = rng.below(i + 1);
@@ -147,13 +152,13 @@ pub fn brio_order(points: &[Point], seed: u64) -> Vec<u32> {
         } else {
             end / BRIO_RATIO
         };
-        idx[start..end].par_sort_unstable_by_key(|&i| (keys[i as usize], i));
+        idx[start..end].par_sort_unstable();
         if start == 0 {
             break;
         }
         end = start;
     }
-    idx
+    idx.into_iter().map(|x| x.1).collect()
 }
 
 #[cfg(test)]

@@ -52,6 +52,9 @@ impl std::hash::Hash for Cell {
 
 type CellMap = HashMap<Cell, Vec<u32>, BuildHasherDefault<CellHasher>>;
 
+/// Kept points checked first, most recent first (see [`Grid::try_keep`]).
+const RECENT: usize = 16;
+
 /// Cells per axis on each side of a point's own cell, at most.
 pub const MAX_SPAN: i64 = 8;
 
@@ -135,6 +138,15 @@ impl Grid {
         };
         // The point's own cell first: most dropped points have their close neighbour
         // there, and the answer does not depend on the order.
+        // The last points kept first: the candidates come along a space-filling curve,
+        // so a close kept point is most often a recent one.
+        let recent = self.kept.len().saturating_sub(RECENT);
+        if self.kept[recent..]
+            .iter()
+            .any(|&(q, hq)| close(p, q, h, hq, delta_f))
+        {
+            return false;
+        }
         let own = Cell([p.x, p.y, p.z].map(|c| self.key(c)));
         if self.cells.get(&own).is_some_and(near) {
             return false;
@@ -164,7 +176,7 @@ impl Grid {
 /// `l(PQ) < limit`, the logarithm of [`normalized_length`] only when the bounds
 /// `|PQ| / max(h) <= l <= |PQ| / min(h)` do not decide it.
 #[inline]
-fn close(p: Point, q: Point, hp: f64, hq: f64, limit: f64) -> bool {
+pub fn close(p: Point, q: Point, hp: f64, hq: f64, limit: f64) -> bool {
     let d2 = p.distance_squared(q);
     let far = limit * hp.max(hq);
     if d2 >= far * far {

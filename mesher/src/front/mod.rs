@@ -27,7 +27,6 @@ pub mod point;
 use crate::delaunay::{Constraints, DelaunayError, Kernel, Rejection};
 use crate::geom::predicates::{insphere, Sphere};
 use crate::geom::Point;
-use crate::quality::length::normalized_length;
 use crate::quality::tet::{q_k, TET_EDGES};
 use crate::sizing::{edge_length, LengthMode, SizeField};
 use crate::tetmesh::{TetId, TetMesh, FACE_VERTICES};
@@ -209,6 +208,44 @@ struct Candidate {
 /// Front faces handled per parallel task (fixed, so results do not depend on threads).
 const CHUNK: usize = 256;
 
+/// The domain tets not yet accepted, as a list that may also hold stale entries (dead
+/// or accepted since; [`Active::refresh`] drops them): an iteration then costs what its
+/// front costs, not a scan of the whole mesh.
+#[derive(Default)]
+struct Active {
+    list: Vec<u32>,
+    listed: Vec<bool>,
+}
+
+impl Active {
+    fn push(&mut self, t: u32) {
+        let i = t as usize;
+        if self.listed.len() <= i {
+            self.listed
+                .resize((i + 1).max(self.listed.len() * 5 / 4), false);
+        }
+        // A reused slot may still be listed: its entry stands for the new tet.
+        if !self.listed[i] {
+            self.listed[i] = true;
+            self.list.push(t);
+        }
+    }
+
+    /// Keeps the live unaccepted domain tets, in increasing slot order (the order of a
+    /// scan, on which the candidates' order and so the mesh depend).
+    fn refresh(&mut self, fm: &FieldMesh, accept: &[bool]) {
+        let listed = &mut self.listed;
+        self.list.retain(|&t| {
+            let keep = fm.mesh.is_alive(TetId(t))
+                && fm.cons.region[t as usize] != 0
+                && !accept[t as usize];
+            listed[t as usize] = keep;
+            keep
+        });
+        self.list.sort_unstable();
+    }
+}
+
 /// Runs the front to convergence (or `max_iterations`), calling `progress` after each
 /// iteration.
 pub fn advance(
@@ -220,8 +257,18 @@ pub fn advance(
     let slots = fm.mesh.num_slots();
     fm.cons.resize(slots);
     let mut accept: Vec<bool> = (0..slots).map(|t| fm.cons.region[t] == 0).collect();
-    let mut born = vec![0u32; slots];
-    let mut tried = vec![0u32; slots];
+    let mut active = Active::default();
+    let mut tets = 0usize;
+    for t in 0..slots as u32 {
+        if fm.cons.region[t as usize] != 0 && fm.mesh.is_alive(TetId(t)) {
+            active.push(t);
+            tets += 1;
+        }
+    }
+    let mut ages = Ages {
+        born: vec![0u32; slots],
+        tried: vec![0u32; slots],
+    };
     let mut kernel = Kernel::new();
     if let Some(bb) = crate::geom::Aabb::of_points(fm.mesh.points()) {
         kernel.set_bounds(bb.min, bb.max);
@@ -229,7 +276,8 @@ pub fn advance(
     let mut report = FrontReport::default();
     for it in 1..=params.max_iterations as u32 {
         let t0 = Instant::now();
-        let faces = front_faces(fm, &accept);
+        active.refresh(fm, &accept);
+        let faces = front_faces(fm, &accept, &active.list);
         if faces.is_empty() {
             report.converged = true;
             break;
@@ -239,7 +287,7 @@ pub fn advance(
             ..Iteration::default()
         };
         for &(t, _) in &faces {
-            tried[t as usize] = it;
+            ages.tried[t as usize] = it;
         }
         let cands = propose(fm, field, params, &faces);
         rec.seconds_propose = t0.elapsed().as_secs_f64();
@@ -254,12 +302,14 @@ pub fn advance(
         let kept = reorder(&kept, 0x5EED ^ it as u64);
         for c in kept {
             match insert(&mut kernel, fm, c)? {
-                Ok(()) => {
+                Ok(removed) => {
                     rec.inserted += 1;
-                    grow(&mut accept, &mut born, &mut tried, fm.mesh.num_slots());
+                    tets = tets + kernel.new_tets().len() - removed;
+                    grow(&mut accept, &mut ages, fm.mesh.num_slots());
                     for &t in kernel.new_tets() {
-                        born[t as usize] = it;
+                        ages.born[t as usize] = it;
                         accept[t as usize] = false;
+                        active.push(t);
                     }
                 }
                 Err(r) => {
@@ -269,7 +319,7 @@ pub fn advance(
             }
         }
         rec.seconds_insert = t0.elapsed().as_secs_f64() - rec.seconds_propose;
-        let (tets, remedial) = classify(fm, field, params, it, &born, &tried, &mut accept);
+        let remedial = classify(fm, field, params, it, &ages, &active.list, &mut accept);
         rec.tets = tets;
         rec.remedial = remedial;
         rec.seconds = t0.elapsed().as_secs_f64();
@@ -277,7 +327,8 @@ pub fn advance(
         report.iterations.push(rec);
     }
     if !report.converged {
-        report.converged = front_faces(fm, &accept).is_empty();
+        active.refresh(fm, &accept);
+        report.converged = front_faces(fm, &accept, &active.list).is_empty();
     }
     report.cavity_tets = kernel.stats.cavity_tets;
     report.walk_steps = kernel.stats.walk_steps;
@@ -299,21 +350,25 @@ fn by_layer_then_hilbert(cands: &[Candidate]) -> Vec<Candidate> {
     order.into_iter().map(|i| cands[i as usize]).collect()
 }
 
-fn grow(accept: &mut Vec<bool>, born: &mut Vec<u32>, tried: &mut Vec<u32>, n: usize) {
+/// Per tet slot: the iteration that made the tet, and the last one in which it was
+/// behind a front face.
+struct Ages {
+    born: Vec<u32>,
+    tried: Vec<u32>,
+}
+
+fn grow(accept: &mut Vec<bool>, ages: &mut Ages, n: usize) {
     if accept.len() < n {
         accept.resize(n, false);
-        born.resize(n, 0);
-        tried.resize(n, 0);
+        ages.born.resize(n, 0);
+        ages.tried.resize(n, 0);
     }
 }
 
 /// The front faces `(K2, facet)`, in slot order.
-fn front_faces(fm: &FieldMesh, accept: &[bool]) -> Vec<(u32, u8)> {
+fn front_faces(fm: &FieldMesh, accept: &[bool], active: &[u32]) -> Vec<(u32, u8)> {
     let mut out = Vec::new();
-    for t in 0..fm.mesh.num_slots() as u32 {
-        if accept[t as usize] || fm.cons.region[t as usize] == 0 || !fm.mesh.is_alive(TetId(t)) {
-            continue;
-        }
+    for &t in active {
         let adj = fm.mesh.raw_adj(t);
         for (i, &a) in adj.iter().enumerate() {
             if accept[(a >> 2) as usize] || fm.cons.is_constrained(t, i) {
@@ -425,7 +480,7 @@ fn filtrate(
         let near_vertex = !all
             && fm.mesh.raw_tet(c.k2).iter().any(|&x| {
                 let (q, hq) = (fm.mesh.points()[x as usize], fm.h[x as usize]);
-                normalized_length(c.p.distance(q), c.h, hq) < c.delta_v
+                filter::close(c.p, q, c.h, hq, c.delta_v)
             });
         if !near_vertex && grid.try_keep(c.p, c.h, c.delta_f, c.delta_v) {
             out.push(*c);
@@ -452,13 +507,13 @@ fn unacceptable_vertices(fm: &FieldMesh, accept: &[bool]) -> Vec<usize> {
     verts
 }
 
-/// Inserts one field point; the inner result says why it was dropped (an index into
-/// [`FrontReport::rejections`]).
+/// Inserts one field point; the inner result is the number of tets its cavity removed,
+/// or why it was dropped (an index into [`FrontReport::rejections`]).
 fn insert(
     kernel: &mut Kernel,
     fm: &mut FieldMesh,
     c: Candidate,
-) -> Result<Result<(), usize>, FrontError> {
+) -> Result<Result<usize, usize>, FrontError> {
     let hint = fm.mesh.is_alive(TetId(c.k2)).then_some(TetId(c.k2));
     let (mesh, cons, h) = (&fm.mesh, &fm.cons, &fm.h);
     // Refused as soon as the conflict region reaches a vertex too close to the point
@@ -466,9 +521,7 @@ fn insert(
     let mut veto = |t: u32| {
         mesh.raw_tet(t).iter().any(|&v| {
             let (q, hq) = (mesh.points()[v as usize], h[v as usize]);
-            let d = c.p.distance(q);
-            // l >= d / max(h_p, h_q): most vertices are excluded without the log.
-            d < c.delta_v * c.h.max(hq) && normalized_length(d, c.h, hq) < c.delta_v
+            filter::close(c.p, q, c.h, hq, c.delta_v)
         })
     };
     if let Err(r) = kernel.constrained_cavity_with(mesh, cons, c.p, hint, &mut veto) {
@@ -491,27 +544,26 @@ fn insert(
     if c.layer > 0 && at_surface() {
         return Ok(Err(3));
     }
+    let removed = kernel.cavity_tets().len();
     kernel.commit_cavity(&mut fm.mesh, &mut fm.cons, c.p)?;
     fm.h.push(c.h);
-    Ok(Ok(()))
+    Ok(Ok(removed))
 }
 
-/// Classifies the tets born in iteration `it` by their edges and applies the remedial
-/// rule to the unacceptable survivors; returns the domain's tet count and how many the
-/// remedial rule accepted.
+/// Classifies the `active` tets born in iteration `it` by their edges and applies the
+/// remedial rule to the unacceptable survivors; returns how many the remedial rule
+/// accepted.
 fn classify(
     fm: &FieldMesh,
     field: &dyn SizeField,
     params: &FrontParams,
     it: u32,
-    born: &[u32],
-    tried: &[u32],
+    ages: &Ages,
+    active: &[u32],
     accept: &mut [bool],
-) -> (usize, usize) {
-    let n = fm.mesh.num_slots();
+) -> usize {
     let mesh = &fm.mesh;
-    let results: Vec<(u32, bool)> = (0..n as u32)
-        .collect::<Vec<_>>()
+    let results: Vec<(u32, bool)> = active
         .par_chunks(4 * CHUNK)
         .map(|chunk| {
             let mut hint = 0u32;
@@ -521,10 +573,10 @@ fn classify(
                 if accept[tu] || fm.cons.region[tu] == 0 || !mesh.is_alive(TetId(t)) {
                     continue;
                 }
-                let ok = if born[tu] == it {
+                let ok = if ages.born[tu] == it {
                     acceptable(fm, field, params, t, &mut hint)
                 } else {
-                    params.remedial == Remedial::All || tried[tu] == it
+                    params.remedial == Remedial::All || ages.tried[tu] == it
                 };
                 out.push((t, ok));
             }
@@ -535,16 +587,13 @@ fn classify(
     let mut remedial = 0;
     for &(t, ok) in &results {
         if ok {
-            if born[t as usize] != it {
+            if ages.born[t as usize] != it {
                 remedial += 1;
             }
             accept[t as usize] = true;
         }
     }
-    let tets = (0..n as u32)
-        .filter(|&t| fm.cons.region[t as usize] != 0 && mesh.is_alive(TetId(t)))
-        .count();
-    (tets, remedial)
+    remedial
 }
 
 /// True when every edge of `t` has normalised length `<= delta`.
