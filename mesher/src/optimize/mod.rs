@@ -6,8 +6,10 @@
 //! four vertices lie on the boundary). Passes repeat until one improves nothing or
 //! [`OptimizeOptions::max_passes`] is reached. A tet that no operation improved is not
 //! tried again in those passes; polishing passes then retry, with that memory cleared,
-//! the tets worse than a fraction of the current worst while the worst drops (the
-//! operations around a tet may have opened a way since it failed).
+//! the tets worse than a fraction of the current worst, and the bad tets sharing a
+//! vertex with them, while the worst drops (the operations around a tet may have
+//! opened a way since it failed; a flat tet between narrow walls is often freed only
+//! once its neighbours have changed).
 //!
 //! Guarantees, by construction: an operation is applied only if the worst `Q_K` of the
 //! tets it touches strictly drops, so the worst `Q_K` of the mesh never rises; every new
@@ -185,21 +187,34 @@ pub fn optimize(domain: &mut Domain, options: &OptimizeOptions) -> OptimizeRepor
     }
 }
 
-/// One pass over the bad tets, worst first.
+/// One pass over the tets above `bar`, and the bad tets (above
+/// [`OptimizeOptions::bad_quality`]) that share a vertex with one, worst first. (A tet
+/// far worse than the rest, say a flat one between two narrow walls, is often freed
+/// only once its neighbours, bad but far less so, have changed.)
 fn pass(
     ops: &mut Ops,
     options: &OptimizeOptions,
     bar: f64,
     failed: &mut FastSet<[u32; 4]>,
 ) -> PassStats {
-    let mut bad: Vec<(f64, u32, [u32; 4])> = ops
+    let all: Vec<(f64, u32, [u32; 4])> = ops
         .l
         .mesh
         .finite_tets()
         .filter(|t| ops.region_of(t.0) != 0)
         .map(|t| (ops.tet_quality(t.0), t.0, ops.l.tet(t.0)))
-        .filter(|b| b.0 > bar)
+        .filter(|b| b.0 > options.bad_quality.min(bar))
         .collect();
+    let mut bad = all;
+    if bar > options.bad_quality {
+        let mut near = vec![false; ops.l.mesh.num_vertices()];
+        for b in bad.iter().filter(|b| b.0 > bar) {
+            for x in b.2 {
+                near[x as usize] = true;
+            }
+        }
+        bad.retain(|b| b.0 > bar || b.2.iter().any(|&x| near[x as usize]));
+    }
     bad.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
     let mut stats = PassStats {
         bad_tets: bad.len(),
