@@ -236,6 +236,12 @@ impl Ops {
             .zip(&link)
             .max_by(|a, b| a.0.total_cmp(b.0))
             .map(|w| *w.1);
+        // The ball's worst tets first: a trial that fails (most do) usually fails on
+        // them, and `worst_below` stops there. Its answer does not depend on the order.
+        let mut by_quality: Vec<(f64, u32)> =
+            qs.iter().copied().zip(star.iter().copied()).collect();
+        by_quality.sort_by(|a, b| b.0.total_cmp(&a.0));
+        let star: Vec<u32> = by_quality.into_iter().map(|x| x.1).collect();
         for &kind in tries {
             let target = match (kind, worst_face) {
                 (Smoothing::Off, Some(f)) => self.target(&[f], v, Smoothing::Optimal),
@@ -328,19 +334,24 @@ impl Ops {
         candidates.push(corners.iter().sum::<Point>() / corners.len().max(1) as f64);
         let before = self.worst(cavity);
         let new: Vec<[u32; 4]> = faces.iter().map(|f| [f[0], f[1], f[2], u32::MAX]).collect();
-        let score = |p: Point| {
+        let score = |p: Point, bound: f64| {
             let pts = |t: &[u32; 4]| t.map(|x| if x == u32::MAX { p } else { self.l.p(x) });
             if new.iter().any(|t| signed_volume(&pts(t)) <= 0.0) {
                 return f64::INFINITY;
             }
-            // Only a score below `before` is ever used: stop once it is reached.
-            max_until(new.iter().map(|t| q_k(&pts(t))), before)
+            max_until(new.iter().map(|t| q_k(&pts(t))), bound)
         };
-        let Some((after, p)) = candidates
-            .into_iter()
-            .map(|p| (score(p), p))
-            .min_by(|a, b| a.0.total_cmp(&b.0))
-        else {
+        // The first candidate with the lowest score. Only a score below both `before`
+        // and the best so far can matter, so each evaluation stops once it reaches them.
+        let mut best: Option<(f64, Point)> = None;
+        for p in candidates {
+            let bound = best.map_or(before, |b| b.0.min(before));
+            let s = score(p, bound);
+            if best.is_none_or(|b| s < b.0) {
+                best = Some((s, p));
+            }
+        }
+        let Some((after, p)) = best else {
             return false;
         };
         if after >= before {
