@@ -266,7 +266,7 @@ impl Recovery {
         candidates.dedup();
         candidates
             .into_iter()
-            .find_map(|apex| self.grow_from(m, side, cut, apex))
+            .find_map(|apex| self.grow_from(m, side, &in_side, cut, apex))
     }
 
     /// [`Recovery::grown_side`] for one apex.
@@ -274,6 +274,7 @@ impl Recovery {
         &self,
         m: u32,
         side: &[u32],
+        in_side: &FastSet<u32>,
         cut: &[[u32; 3]],
         apex: u32,
     ) -> Option<(Vec<u32>, Vec<[u32; 4]>)> {
@@ -283,7 +284,10 @@ impl Recovery {
             return None;
         }
         let mut region: Vec<u32> = side.to_vec();
-        let mut member: FastSet<u32> = side.iter().copied().collect();
+        // The side's set is shared by every apex tried (a side can be thousands of
+        // tets, and hundreds of apexes are tried); this apex's additions go apart.
+        let mut added: FastSet<u32> = FastSet::default();
+        let member = |added: &FastSet<u32>, u: u32| in_side.contains(&u) || added.contains(&u);
         let mut extra: Vec<u32> = Vec::new();
         let mut k = 0;
         while k < region.len() {
@@ -297,7 +301,7 @@ impl Recovery {
             for i in 0..4 {
                 let f = FACE_VERTICES[i].map(|j| v[j]);
                 let u = FaceRef::from_raw(adj[i]).tet().0;
-                if f.contains(&m) || f.contains(&apex) || member.contains(&u) {
+                if f.contains(&m) || f.contains(&apex) || member(&added, u) {
                     continue;
                 }
                 if self.l.orient(f[0], f[1], f[2], apex) == Orientation::Positive {
@@ -306,7 +310,7 @@ impl Recovery {
                 if self.locks.face(f) || self.l.is_ghost(u) || side_of_star(self, u, m) {
                     return None;
                 }
-                member.insert(u);
+                added.insert(u);
                 region.push(u);
                 extra.push(u);
             }
@@ -318,7 +322,7 @@ impl Recovery {
             for i in 0..4 {
                 let f = FACE_VERTICES[i].map(|j| v[j]);
                 let u = FaceRef::from_raw(adj[i]).tet().0;
-                if !f.contains(&m) && !f.contains(&apex) && !member.contains(&u) {
+                if !f.contains(&m) && !f.contains(&apex) && !member(&added, u) {
                     cone.push([f[0], f[1], f[2], apex]);
                 }
             }
@@ -329,10 +333,11 @@ impl Recovery {
                 .map(|f| [f[0], f[1], f[2], apex]),
         );
         // Every vertex of the region but `m` stays: the apex or on a face of the cone.
+        let on_cone: FastSet<u32> = cone.iter().flat_map(|c| c[..3].iter().copied()).collect();
         let kept = region
             .iter()
             .flat_map(|&t| self.l.tet(t))
-            .all(|x| x == m || x == apex || cone.iter().any(|c| c[..3].contains(&x)));
+            .all(|x| x == m || x == apex || on_cone.contains(&x));
         kept.then_some((extra, cone))
     }
 
