@@ -22,7 +22,7 @@ use crate::boundary::flips::Locks;
 use crate::boundary::local::Local;
 use crate::quality::Histogram;
 use crate::tetmesh::TetMesh;
-use crate::FastSet;
+use crate::FastMap;
 use ops::Ops;
 use serde::Serialize;
 use std::time::Instant;
@@ -139,11 +139,13 @@ pub fn optimize(domain: &mut Domain, options: &OptimizeOptions) -> OptimizeRepor
     let mut ops = Ops::new(Local::new(mesh), locks, region, fixed);
     let (before, worst_before) = histogram(&ops);
     let mut passes = Vec::new();
-    // Tets (sorted vertices) that no operation improved: not tried again.
-    let mut failed: FastSet<[u32; 4]> = FastSet::default();
+    // Tets (sorted vertices) that no operation improved, with the clock then: not
+    // tried again by the main passes, and by the polishing passes only once something
+    // at their vertices has changed.
+    let mut failed: FastMap<[u32; 4], u32> = FastMap::default();
     for _ in 0..options.max_passes {
         let tp = Instant::now();
-        let mut stats = pass(&mut ops, options, options.bad_quality, &mut failed);
+        let mut stats = pass(&mut ops, options, options.bad_quality, &mut failed, false);
         stats.worst = histogram(&ops).1;
         stats.seconds = tp.elapsed().as_secs_f64();
         let done = stats.edge_removals + stats.face_flips + stats.smoothed + stats.inserted;
@@ -154,16 +156,16 @@ pub fn optimize(domain: &mut Domain, options: &OptimizeOptions) -> OptimizeRepor
     }
     // Polishing: a tet that failed once is never retried by the main passes, though the
     // operations around it since may have opened a way (re-optimising armadillo's output
-    // from scratch took its worst Q_K from 112 to 16). Retry the worst ones only.
+    // from scratch took its worst Q_K from 112 to 16). Retry the worst ones only, and
+    // only where something changed since they failed.
     let mut worst = match passes.last() {
         Some(p) => p.worst,
         None => histogram(&ops).1,
     };
     for _ in 0..options.polish_passes {
         let tp = Instant::now();
-        failed.clear();
         let bar = options.bad_quality.max(worst * options.polish_fraction);
-        let mut stats = pass(&mut ops, options, bar, &mut failed);
+        let mut stats = pass(&mut ops, options, bar, &mut failed, true);
         stats.worst = histogram(&ops).1;
         stats.seconds = tp.elapsed().as_secs_f64();
         let improved = stats.worst < worst;
@@ -195,7 +197,8 @@ fn pass(
     ops: &mut Ops,
     options: &OptimizeOptions,
     bar: f64,
-    failed: &mut FastSet<[u32; 4]>,
+    failed: &mut FastMap<[u32; 4], u32>,
+    retry_changed: bool,
 ) -> PassStats {
     let all: Vec<(f64, u32, [u32; 4])> = ops
         .l
@@ -227,14 +230,19 @@ fn pass(
         }
         let mut key = v;
         key.sort_unstable();
-        if failed.contains(&key) {
-            continue;
+        // A failed tet is skipped; with `retry_changed`, only while nothing at its
+        // vertices has changed since (it would fail again: the operations are local
+        // and deterministic, so skipping it changes nothing but the time).
+        if let Some(&since) = failed.get(&key) {
+            if !retry_changed || !ops.changed_since(v, since) {
+                continue;
+            }
         }
         let ok = improve(ops, t, v, options, &mut stats);
         if ok {
             ops.l.forget();
         } else {
-            failed.insert(key);
+            failed.insert(key, ops.clock);
         }
     }
     stats

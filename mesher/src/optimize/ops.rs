@@ -41,6 +41,13 @@ pub(super) struct Ops {
     /// vertex clears its ball's entries ([`Self::smooth`]). The passes rescan every tet,
     /// and most of them are unchanged since the last scan.
     qcache: Vec<Cell<([u32; 4], f64)>>,
+    /// Per vertex: the value of `clock` when a tet at it last changed (made, or
+    /// reshaped by a move). Every operation on a tet depends only on the tets at its
+    /// vertices and their neighbours, so a tet that failed after its vertices' last
+    /// change fails again ([`Self::changed_since`]).
+    stamp: Vec<u32>,
+    /// Successful operations so far.
+    pub clock: u32,
 }
 
 /// A [`Ops::qcache`] entry that matches no tet.
@@ -56,6 +63,8 @@ impl Ops {
             fixed,
             scratch: Vec::new(),
             qcache,
+            stamp: Vec::new(),
+            clock: 0,
         }
     }
 
@@ -115,6 +124,28 @@ impl Ops {
         for &t in &self.l.created {
             self.region[t as usize] = r;
         }
+        let created = std::mem::take(&mut self.l.created);
+        self.touch(created.iter().flat_map(|&t| self.l.tet(t)).collect());
+        self.l.created = created;
+    }
+
+    /// Records a change at the vertices `verts` (one tick of the clock).
+    fn touch(&mut self, verts: Vec<u32>) {
+        self.clock = self.clock.wrapping_add(1).max(1);
+        for x in verts {
+            let i = x as usize;
+            if i >= self.stamp.len() {
+                self.stamp.resize((i + 1).max(self.stamp.len() * 5 / 4), 0);
+            }
+            self.stamp[i] = self.clock;
+        }
+    }
+
+    /// True when a tet at one of `verts` changed after the clock read `since`.
+    pub fn changed_since(&self, verts: [u32; 4], since: u32) -> bool {
+        verts
+            .iter()
+            .any(|&x| self.stamp.get(x as usize).is_some_and(|&s| s > since))
     }
 
     /// Removes edge `xy` if the best re-triangulation of its ring is better. (The ring
@@ -266,6 +297,7 @@ impl Ops {
                             entry.set(STALE);
                         }
                     }
+                    self.touch(star.iter().flat_map(|&t| self.l.tet(t)).collect());
                     return true;
                 }
             }
