@@ -4,12 +4,13 @@
 //! Existing mesh vertices can be registered too ([`Grid::add_vertex`]): a point closer
 //! than `delta_v` to one of them is dropped here, before the kernel builds its cavity.
 //!
-//! The search goes through a uniform hash grid, never all pairs. Since `h` is linear
-//! along `PQ`, `l(PQ) >= |PQ| / max(h_P, h_Q)`, so a close pair is closer than
-//! `delta_f * max(h_Q, h_max)`, `h_max` the largest size of the candidates: a kept point
-//! is registered in its own cell, and a query looks at the cells within that radius.
-//! The cell size is `delta_f * h_max`, so a query looks at 27 cells; the span is
-//! clipped at [`MAX_SPAN`] cells per axis all the same.
+//! The search goes through hash grids, never all pairs. Since `h` is linear along
+//! `PQ`, `l(PQ) >= |PQ| / max(h_P, h_Q)`, so a close pair is closer than `delta_f`
+//! times the larger size: a kept point is registered in its own cell, and a query looks
+//! at the cells within that radius. The points of size up to `h_small` (the caller's
+//! choice, e.g. the 99th percentile) are in cells of side `delta * h_small`, the rest in
+//! cells of side `delta * h_max` ([`Grid`]); spans are clipped at [`MAX_SPAN`] cells
+//! per axis, which `h_small >= h_max / MAX_SPAN` never reaches.
 
 use crate::geom::Point;
 use crate::quality::length::normalized_length;
@@ -58,47 +59,19 @@ const RECENT: usize = 16;
 /// Cells per axis on each side of a point's own cell, at most.
 pub const MAX_SPAN: i64 = 8;
 
-/// Uniform grid of the kept points.
+/// One uniform level of the grid: cells of side `cell`, each listing entry ids.
 #[derive(Debug)]
-pub struct Grid {
+struct Level {
     cell: f64,
-    delta_f: f64,
-    delta_v: f64,
     cells: CellMap,
-    h_max: f64,
-    kept: Vec<(Point, f64)>,
-    vertices: Vec<(Point, f64)>,
 }
 
-/// Bit set on a cell entry that refers to [`Grid::vertices`] rather than a kept point.
-const VERTEX_BIT: u32 = 1 << 31;
-
-impl Grid {
-    /// An empty grid for points of sizes at most `h_max`, with the filtration distance
-    /// `delta_f` between kept points and `delta_v` to registered vertices.
-    pub fn new(h_max: f64, delta_f: f64, delta_v: f64) -> Grid {
-        let cell = (h_max * delta_f.max(delta_v)).max(f64::MIN_POSITIVE);
-        Grid {
-            cell,
-            delta_f,
-            delta_v,
-            h_max,
+impl Level {
+    fn new(cell: f64) -> Level {
+        Level {
+            cell: cell.max(f64::MIN_POSITIVE),
             cells: CellMap::default(),
-            kept: Vec::new(),
-            vertices: Vec::new(),
         }
-    }
-
-    /// Registers an existing vertex (size `h <= h_max`): later points closer than
-    /// `delta_v` to it are dropped.
-    pub fn add_vertex(&mut self, p: Point, h: f64) {
-        if self.vertices.len() as u32 >= VERTEX_BIT - 1 {
-            return;
-        }
-        let id = self.vertices.len() as u32 | VERTEX_BIT;
-        self.vertices.push((p, h));
-        let key = Cell([p.x, p.y, p.z].map(|c| self.key(c)));
-        self.cells.entry(key).or_default().push(id);
     }
 
     fn key(&self, x: f64) -> i64 {
@@ -110,6 +83,10 @@ impl Grid {
         }
     }
 
+    fn cell_of(&self, p: Point) -> Cell {
+        Cell([p.x, p.y, p.z].map(|c| self.key(c)))
+    }
+
     /// The cell range of the ball of radius `r` around `p`, clipped.
     fn range(&self, p: Point, r: f64) -> [(i64, i64); 3] {
         let span = ((r / self.cell).ceil() as i64).clamp(0, MAX_SPAN);
@@ -119,13 +96,114 @@ impl Grid {
         })
     }
 
+    /// True when `near` holds for the entries of some cell within `r` of `p` (the
+    /// point's own cell first).
+    fn any_within(&self, p: Point, r: f64, near: impl Fn(&Vec<u32>) -> bool) -> bool {
+        if self.cells.is_empty() {
+            return false;
+        }
+        let own = self.cell_of(p);
+        if self.cells.get(&own).is_some_and(&near) {
+            return true;
+        }
+        let rg = self.range(p, r);
+        for x in rg[0].0..=rg[0].1 {
+            for y in rg[1].0..=rg[1].1 {
+                for z in rg[2].0..=rg[2].1 {
+                    let cell = Cell([x, y, z]);
+                    if cell != own && self.cells.get(&cell).is_some_and(&near) {
+                        return true;
+                    }
+                }
+            }
+        }
+        false
+    }
+
+    fn add(&mut self, p: Point, id: u32) {
+        let key = self.cell_of(p);
+        self.cells.entry(key).or_default().push(id);
+    }
+}
+
+/// Grid of the kept points and registered vertices, in two levels: entries of size at
+/// most `h_small` in cells of side `D h_small`, larger ones in cells of side
+/// `D h_max` (`D` the larger of the two distances). A close pair is closer than `D`
+/// times the larger of its sizes, so a query looks at the small level within
+/// `D max(h, h_small)` and at the large level within `D h_max`. Most points are small:
+/// their cells hold a few neighbours instead of everything within the largest size.
+#[derive(Debug)]
+pub struct Grid {
+    delta_f: f64,
+    delta_v: f64,
+    h_small: f64,
+    h_max: f64,
+    small: Level,
+    big: Level,
+    kept: Vec<(Point, f64)>,
+    vertices: Vec<(Point, f64)>,
+}
+
+/// Bit set on a cell entry that refers to [`Grid::vertices`] rather than a kept point.
+const VERTEX_BIT: u32 = 1 << 31;
+
+impl Grid {
+    /// An empty grid for points of sizes at most `h_max`, with the filtration distance
+    /// `delta_f` between kept points and `delta_v` to registered vertices.
+    pub fn new(h_max: f64, delta_f: f64, delta_v: f64) -> Grid {
+        Grid::with_sizes(h_max, h_max, delta_f, delta_v)
+    }
+
+    /// [`Grid::new`] with the small level for sizes up to `h_small` (clamped to
+    /// `[h_max / MAX_SPAN, h_max]`, so that no query span is ever clipped).
+    pub fn with_sizes(h_small: f64, h_max: f64, delta_f: f64, delta_v: f64) -> Grid {
+        let d = delta_f.max(delta_v);
+        let h_small = h_small.min(h_max).max(h_max / MAX_SPAN as f64);
+        Grid {
+            delta_f,
+            delta_v,
+            h_small,
+            h_max,
+            small: Level::new(d * h_small),
+            big: Level::new(d * h_max),
+            kept: Vec::new(),
+            vertices: Vec::new(),
+        }
+    }
+
+    fn level_mut(&mut self, h: f64) -> &mut Level {
+        if h <= self.h_small {
+            &mut self.small
+        } else {
+            &mut self.big
+        }
+    }
+
+    /// Registers an existing vertex (size `h <= h_max`): later points closer than
+    /// `delta_v` to it are dropped.
+    pub fn add_vertex(&mut self, p: Point, h: f64) {
+        if self.vertices.len() as u32 >= VERTEX_BIT - 1 {
+            return;
+        }
+        let id = self.vertices.len() as u32 | VERTEX_BIT;
+        self.vertices.push((p, h));
+        self.level_mut(h).add(p, id);
+    }
+
     /// Keeps `p` (size `h`) unless a kept point is closer than `delta_f` or a vertex
     /// closer than `delta_v` (each at most the grid's); returns whether it was kept.
     pub fn try_keep(&mut self, p: Point, h: f64, delta_f: f64, delta_v: f64) -> bool {
         let delta_f = delta_f.min(self.delta_f);
         let delta_v = delta_v.min(self.delta_v);
-        let r = self.delta_f.max(self.delta_v) * h.max(self.h_max);
-        let rg = self.range(p, r);
+        // The last points kept first: the candidates come along a space-filling curve,
+        // so a close kept point is most often a recent one.
+        let recent = self.kept.len().saturating_sub(RECENT);
+        if self.kept[recent..]
+            .iter()
+            .any(|&(q, hq)| close(p, q, h, hq, delta_f))
+        {
+            return false;
+        }
         let near = |list: &Vec<u32>| {
             list.iter().any(|&k| {
                 let ((q, hq), limit) = if k & VERTEX_BIT != 0 {
@@ -136,34 +214,15 @@ impl Grid {
                 close(p, q, h, hq, limit)
             })
         };
-        // The point's own cell first: most dropped points have their close neighbour
-        // there, and the answer does not depend on the order.
-        // The last points kept first: the candidates come along a space-filling curve,
-        // so a close kept point is most often a recent one.
-        let recent = self.kept.len().saturating_sub(RECENT);
-        if self.kept[recent..]
-            .iter()
-            .any(|&(q, hq)| close(p, q, h, hq, delta_f))
+        let d = self.delta_f.max(self.delta_v);
+        if self.small.any_within(p, d * h.max(self.h_small), near)
+            || self.big.any_within(p, d * h.max(self.h_max), near)
         {
             return false;
         }
-        let own = Cell([p.x, p.y, p.z].map(|c| self.key(c)));
-        if self.cells.get(&own).is_some_and(near) {
-            return false;
-        }
-        for x in rg[0].0..=rg[0].1 {
-            for y in rg[1].0..=rg[1].1 {
-                for z in rg[2].0..=rg[2].1 {
-                    let cell = Cell([x, y, z]);
-                    if cell != own && self.cells.get(&cell).is_some_and(near) {
-                        return false;
-                    }
-                }
-            }
-        }
         let id = self.kept.len() as u32;
         self.kept.push((p, h));
-        self.cells.entry(own).or_default().push(id);
+        self.level_mut(h).add(p, id);
         true
     }
 
@@ -195,37 +254,42 @@ mod tests {
 
     #[test]
     fn no_kept_pair_is_closer_than_delta_f() {
-        // Pseudo-random points with sizes varying by a factor 4.
-        let mut s = 12345u64;
-        let mut rnd = || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 11) as f64 / (1u64 << 53) as f64
-        };
         let delta_f = std::f64::consts::FRAC_1_SQRT_2;
-        let mut g = Grid::new(0.2, delta_f, delta_f);
-        let mut all = Vec::new();
-        for _ in 0..3000 {
-            let p = Point::new(rnd(), rnd(), rnd());
-            let h = 0.05 + 0.15 * p.x;
-            all.push((p, h, g.try_keep(p, h, delta_f, delta_f)));
-        }
-        let kept = g.kept();
-        assert!(kept.len() > 50 && kept.len() < 3000);
-        for i in 0..kept.len() {
-            for j in i + 1..kept.len() {
-                let (p, hp) = kept[i];
-                let (q, hq) = kept[j];
-                assert!(normalized_length(p.distance(q), hp, hq) >= delta_f);
+        // One level, and two (sizes above 0.1 in the large cells).
+        for mut g in [
+            Grid::new(0.2, delta_f, delta_f),
+            Grid::with_sizes(0.1, 0.2, delta_f, delta_f),
+        ] {
+            // Pseudo-random points with sizes varying by a factor 4.
+            let mut s = 12345u64;
+            let mut rnd = || {
+                s ^= s << 13;
+                s ^= s >> 7;
+                s ^= s << 17;
+                (s >> 11) as f64 / (1u64 << 53) as f64
+            };
+            let mut all = Vec::new();
+            for _ in 0..3000 {
+                let p = Point::new(rnd(), rnd(), rnd());
+                let h = 0.05 + 0.15 * p.x;
+                all.push((p, h, g.try_keep(p, h, delta_f, delta_f)));
             }
-        }
-        // Every dropped point has a kept point closer than delta_f.
-        for (p, h, k) in all {
-            if !k {
-                assert!(kept
-                    .iter()
-                    .any(|&(q, hq)| normalized_length(p.distance(q), h, hq) < delta_f));
+            let kept = g.kept();
+            assert!(kept.len() > 50 && kept.len() < 3000);
+            for i in 0..kept.len() {
+                for j in i + 1..kept.len() {
+                    let (p, hp) = kept[i];
+                    let (q, hq) = kept[j];
+                    assert!(normalized_length(p.distance(q), hp, hq) >= delta_f);
+                }
+            }
+            // Every dropped point has a kept point closer than delta_f.
+            for (p, h, k) in all {
+                if !k {
+                    assert!(kept
+                        .iter()
+                        .any(|&(q, hq)| normalized_length(p.distance(q), h, hq) < delta_f));
+                }
             }
         }
     }

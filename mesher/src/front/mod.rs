@@ -472,7 +472,16 @@ fn filtrate(
         .map(|c| c.h)
         .chain(verts.iter().map(|&v| fm.h[v]))
         .fold(0.0, f64::max);
-    let mut grid = Grid::new(h_max, params.delta_f, params.delta_v);
+    // The small level of the grid holds 99 % of the points (sizes vary by a factor of
+    // 5 or more across a front, and cells sized for the largest hold far too many).
+    let mut sizes: Vec<f64> = cands.iter().map(|c| c.h).collect();
+    let h_small = if sizes.is_empty() {
+        h_max
+    } else {
+        let k = (sizes.len() - 1) * 99 / 100;
+        *sizes.select_nth_unstable_by(k, f64::total_cmp).1
+    };
+    let mut grid = Grid::with_sizes(h_small, h_max, params.delta_f, params.delta_v);
     for &v in &verts {
         grid.add_vertex(fm.mesh.points()[v], fm.h[v]);
     }
