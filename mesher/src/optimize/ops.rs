@@ -19,6 +19,7 @@ use crate::geom::predicates::Orientation;
 use crate::geom::Point;
 use crate::quality::tet::{q_k, signed_volume};
 use crate::tetmesh::{FaceRef, VertexId, FACE_VERTICES};
+use crate::FastMap;
 use std::cell::Cell;
 
 /// Height of the regular tet over a face of edge `h`, over `h`: sqrt(2/3).
@@ -48,6 +49,10 @@ pub(super) struct Ops {
     stamp: Vec<u32>,
     /// Successful operations so far.
     pub clock: u32,
+    /// Edges (as called) and vertices whose removal or move failed, with the clock
+    /// then (see [`Self::remove_edge`], [`Self::smooth`]).
+    edge_failed: FastMap<(u32, u32), u32>,
+    smooth_failed: FastMap<u32, u32>,
 }
 
 /// A [`Ops::qcache`] entry that matches no tet.
@@ -65,6 +70,8 @@ impl Ops {
             qcache,
             stamp: Vec::new(),
             clock: 0,
+            edge_failed: FastMap::default(),
+            smooth_failed: FastMap::default(),
         }
     }
 
@@ -151,8 +158,25 @@ impl Ops {
     /// Removes edge `xy` if the best re-triangulation of its ring is better. (The ring
     /// starts where [`Local::ring`] finds the edge: starting it elsewhere, say at the bad
     /// tet, rotates the polygon, which changes the choice among equally good
-    /// triangulations and so the whole run.)
+    /// triangulations and so the whole run.) An edge that failed is not tried again
+    /// until a tet at one of its ends has changed: the ring and its geometry are the
+    /// same, so it would fail again.
     pub fn remove_edge(&mut self, x: u32, y: u32) -> bool {
+        // Ordered: the ring's orientation and start, so rounding at a tie, follow it.
+        let key = (x, y);
+        if let Some(&since) = self.edge_failed.get(&key) {
+            if !self.changed_since([x, y, x, y], since) {
+                return false;
+            }
+        }
+        let done = self.remove_edge_now(x, y);
+        if !done {
+            self.edge_failed.insert(key, self.clock);
+        }
+        done
+    }
+
+    fn remove_edge_now(&mut self, x: u32, y: u32) -> bool {
         if self.locks.edge(x, y) {
             return false;
         }
@@ -235,6 +259,21 @@ impl Ops {
         if how == Smoothing::Off || self.fixed.get(v as usize) != Some(&false) {
             return false;
         }
+        // A vertex whose move failed, with no tet at it changed since (a neighbour's
+        // move changes the tets at it too), fails again.
+        if let Some(&since) = self.smooth_failed.get(&v) {
+            if !self.changed_since([v; 4], since) {
+                return false;
+            }
+        }
+        let done = self.smooth_now(v, how);
+        if !done {
+            self.smooth_failed.insert(v, self.clock);
+        }
+        done
+    }
+
+    fn smooth_now(&mut self, v: u32, how: Smoothing) -> bool {
         let mut star = Vec::new();
         self.l.star(v, &mut star);
         if star.is_empty()
