@@ -299,7 +299,7 @@ pub fn advance(
         // cavities are broken up early, and neighbouring insertions touch neighbouring
         // tets.
         let ordered = by_layer_then_hilbert(&cands);
-        let kept = filtrate(fm, params, &accept, &ordered);
+        let kept = filtrate(fm, params, &active.list, &ordered);
         rec.filtered = cands.len() - kept.len();
         let kept = reorder(&kept, 0x5EED ^ it as u64);
         for c in kept {
@@ -458,12 +458,12 @@ fn propose(
 fn filtrate(
     fm: &FieldMesh,
     params: &FrontParams,
-    accept: &[bool],
+    active: &[u32],
     cands: &[Candidate],
 ) -> Vec<Candidate> {
     let all = params.filter_all_vertices;
     let verts = if all {
-        unacceptable_vertices(fm, accept)
+        unacceptable_vertices(fm, active)
     } else {
         Vec::new()
     };
@@ -500,14 +500,12 @@ fn filtrate(
     out
 }
 
-/// The vertices of the unacceptable domain tets, each once, in increasing tet order.
-fn unacceptable_vertices(fm: &FieldMesh, accept: &[bool]) -> Vec<usize> {
+/// The vertices of the unacceptable domain tets (`active`, refreshed: in increasing
+/// slot order), each once.
+fn unacceptable_vertices(fm: &FieldMesh, active: &[u32]) -> Vec<usize> {
     let mut seen = vec![false; fm.h.len()];
     let mut verts = Vec::new();
-    for t in 0..fm.mesh.num_slots() as u32 {
-        if accept[t as usize] || fm.cons.region[t as usize] == 0 || !fm.mesh.is_alive(TetId(t)) {
-            continue;
-        }
+    for &t in active {
         for v in fm.mesh.raw_tet(t).map(|v| v as usize) {
             if v < seen.len() && !seen[v] {
                 seen[v] = true;

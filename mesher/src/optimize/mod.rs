@@ -200,15 +200,14 @@ fn pass(
     failed: &mut FastMap<[u32; 4], u32>,
     retry_changed: bool,
 ) -> PassStats {
-    let all: Vec<(f64, u32, [u32; 4])> = ops
+    let mut bad: Vec<(f64, u32, [u32; 4])> = ops
         .l
         .mesh
         .finite_tets()
         .filter(|t| ops.region_of(t.0) != 0)
         .map(|t| (ops.tet_quality(t.0), t.0, ops.l.tet(t.0)))
-        .filter(|b| b.0 > options.bad_quality.min(bar))
+        .filter(|b| b.0 > options.bad_quality)
         .collect();
-    let mut bad = all;
     if bar > options.bad_quality {
         let mut near = vec![false; ops.l.mesh.num_vertices()];
         for b in bad.iter().filter(|b| b.0 > bar) {
@@ -234,15 +233,14 @@ fn pass(
         // vertices has changed since (it would fail again: the operations are local
         // and deterministic, so skipping it changes nothing but the time).
         if let Some(&since) = failed.get(&key) {
-            if !retry_changed || !ops.changed_since(v, since) {
+            if !retry_changed || !ops.stamps.changed_since(&v, since) {
                 continue;
             }
         }
-        let ok = improve(ops, t, v, options, &mut stats);
-        if ok {
+        if improve(ops, t, v, options, &mut stats) {
             ops.l.forget();
         } else {
-            failed.insert(key, ops.clock);
+            failed.insert(key, ops.stamps.clock);
         }
     }
     stats

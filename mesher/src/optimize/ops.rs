@@ -42,17 +42,43 @@ pub(super) struct Ops {
     /// vertex clears its ball's entries ([`Self::smooth`]). The passes rescan every tet,
     /// and most of them are unchanged since the last scan.
     qcache: Vec<Cell<([u32; 4], f64)>>,
-    /// Per vertex: the value of `clock` when a tet at it last changed (made, or
-    /// reshaped by a move). Every operation on a tet depends only on the tets at its
-    /// vertices and their neighbours, so a tet that failed after its vertices' last
-    /// change fails again ([`Self::changed_since`]).
+    /// When the tets at each vertex last changed.
+    pub stamps: Stamps,
+    /// Edge removals (key: the edge as called) and vertex moves (key: `(v, v)`) that
+    /// failed, with the clock then ([`Self::unless_failed`]).
+    failed_ops: FastMap<(u32, u32), u32>,
+}
+
+/// Per vertex: the value of `clock` when a tet at it last changed (made, or reshaped
+/// by a move). Every operation reads only the tets at the vertices it names and their
+/// neighbours, and is deterministic, so one that failed after those vertices' last
+/// change fails again.
+#[derive(Default)]
+pub(super) struct Stamps {
     stamp: Vec<u32>,
-    /// Successful operations so far.
+    /// Changes so far.
     pub clock: u32,
-    /// Edges (as called) and vertices whose removal or move failed, with the clock
-    /// then (see [`Self::remove_edge`], [`Self::smooth`]).
-    edge_failed: FastMap<(u32, u32), u32>,
-    smooth_failed: FastMap<u32, u32>,
+}
+
+impl Stamps {
+    /// Records a change at the vertices `verts` (one tick of the clock).
+    fn touch(&mut self, verts: impl IntoIterator<Item = u32>) {
+        self.clock = self.clock.wrapping_add(1).max(1);
+        for x in verts {
+            let i = x as usize;
+            if i >= self.stamp.len() {
+                self.stamp.resize((i + 1).max(self.stamp.len() * 5 / 4), 0);
+            }
+            self.stamp[i] = self.clock;
+        }
+    }
+
+    /// True when a tet at one of `verts` changed after the clock read `since`.
+    pub fn changed_since(&self, verts: &[u32], since: u32) -> bool {
+        verts
+            .iter()
+            .any(|&x| self.stamp.get(x as usize).is_some_and(|&s| s > since))
+    }
 }
 
 /// A [`Ops::qcache`] entry that matches no tet.
@@ -68,10 +94,8 @@ impl Ops {
             fixed,
             scratch: Vec::new(),
             qcache,
-            stamp: Vec::new(),
-            clock: 0,
-            edge_failed: FastMap::default(),
-            smooth_failed: FastMap::default(),
+            stamps: Stamps::default(),
+            failed_ops: FastMap::default(),
         }
     }
 
@@ -131,49 +155,33 @@ impl Ops {
         for &t in &self.l.created {
             self.region[t as usize] = r;
         }
-        let created = std::mem::take(&mut self.l.created);
-        self.touch(created.iter().flat_map(|&t| self.l.tet(t)).collect());
-        self.l.created = created;
+        let l = &self.l;
+        self.stamps.touch(l.created.iter().flat_map(|&t| l.tet(t)));
     }
 
-    /// Records a change at the vertices `verts` (one tick of the clock).
-    fn touch(&mut self, verts: Vec<u32>) {
-        self.clock = self.clock.wrapping_add(1).max(1);
-        for x in verts {
-            let i = x as usize;
-            if i >= self.stamp.len() {
-                self.stamp.resize((i + 1).max(self.stamp.len() * 5 / 4), 0);
+    /// `op()`, unless the operation `key` failed and nothing at its vertices has
+    /// changed since (it would fail again); a failure is remembered.
+    fn unless_failed(&mut self, key: (u32, u32), op: impl FnOnce(&mut Self) -> bool) -> bool {
+        if let Some(&since) = self.failed_ops.get(&key) {
+            if !self.stamps.changed_since(&[key.0, key.1], since) {
+                return false;
             }
-            self.stamp[i] = self.clock;
         }
-    }
-
-    /// True when a tet at one of `verts` changed after the clock read `since`.
-    pub fn changed_since(&self, verts: [u32; 4], since: u32) -> bool {
-        verts
-            .iter()
-            .any(|&x| self.stamp.get(x as usize).is_some_and(|&s| s > since))
+        let done = op(self);
+        if !done {
+            self.failed_ops.insert(key, self.stamps.clock);
+        }
+        done
     }
 
     /// Removes edge `xy` if the best re-triangulation of its ring is better. (The ring
     /// starts where [`Local::ring`] finds the edge: starting it elsewhere, say at the bad
     /// tet, rotates the polygon, which changes the choice among equally good
     /// triangulations and so the whole run.) An edge that failed is not tried again
-    /// until a tet at one of its ends has changed: the ring and its geometry are the
-    /// same, so it would fail again.
+    /// until a tet at one of its ends has changed. The key is the edge as called: the
+    /// ring's orientation and start, so rounding at a tie, follow the order.
     pub fn remove_edge(&mut self, x: u32, y: u32) -> bool {
-        // Ordered: the ring's orientation and start, so rounding at a tie, follow it.
-        let key = (x, y);
-        if let Some(&since) = self.edge_failed.get(&key) {
-            if !self.changed_since([x, y, x, y], since) {
-                return false;
-            }
-        }
-        let done = self.remove_edge_now(x, y);
-        if !done {
-            self.edge_failed.insert(key, self.clock);
-        }
-        done
+        self.unless_failed((x, y), |o| o.remove_edge_now(x, y))
     }
 
     fn remove_edge_now(&mut self, x: u32, y: u32) -> bool {
@@ -259,18 +267,8 @@ impl Ops {
         if how == Smoothing::Off || self.fixed.get(v as usize) != Some(&false) {
             return false;
         }
-        // A vertex whose move failed, with no tet at it changed since (a neighbour's
-        // move changes the tets at it too), fails again.
-        if let Some(&since) = self.smooth_failed.get(&v) {
-            if !self.changed_since([v; 4], since) {
-                return false;
-            }
-        }
-        let done = self.smooth_now(v, how);
-        if !done {
-            self.smooth_failed.insert(v, self.clock);
-        }
-        done
+        // A neighbour's move changes the tets at `v` too.
+        self.unless_failed((v, v), |o| o.smooth_now(v, how))
     }
 
     fn smooth_now(&mut self, v: u32, how: Smoothing) -> bool {
@@ -336,7 +334,8 @@ impl Ops {
                             entry.set(STALE);
                         }
                     }
-                    self.touch(star.iter().flat_map(|&t| self.l.tet(t)).collect());
+                    let l = &self.l;
+                    self.stamps.touch(star.iter().flat_map(|&t| l.tet(t)));
                     return true;
                 }
             }
