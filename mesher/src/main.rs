@@ -134,6 +134,9 @@ struct MeshArgs {
     /// delta_f and delta_v for the optimal points of boundary faces (the first layer)
     #[arg(long, default_value_t = mesher::front::FrontParams::default().delta_boundary)]
     delta_boundary: f64,
+    /// Target normalised length of the optimal point's edges (paper: 1)
+    #[arg(long, default_value_t = mesher::front::FrontParams::default().point.length)]
+    point_length: f64,
     /// Filter the field points against the vertices of every unacceptable tet
     #[arg(long)]
     filter_all_vertices: bool,

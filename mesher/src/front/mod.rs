@@ -428,7 +428,7 @@ fn propose(
                 });
                 let mut prev = (p, hp);
                 for layer in 1..params.layers.min(16) as u8 {
-                    let q = prev.0 + n * (prev.1 * REGULAR_HEIGHT);
+                    let q = prev.0 + n * (prev.1 * params.point.length * REGULAR_HEIGHT);
                     let hq = field.size(q, &mut hint);
                     if !(q.is_finite() && hq > 0.0 && hq.is_finite()) {
                         break;
