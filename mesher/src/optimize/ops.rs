@@ -11,6 +11,11 @@
 //!   points of its ball's faces (the apex of the regular tet on each face, on the
 //!   vertex's side), or towards the mean of its neighbours (Laplacian), by the longest
 //!   of a few halving steps that improves the ball.
+//! - Point insertion, the last resort: the cone from a new point over a small cavity
+//!   (the tet with its neighbours, the tet alone, the rings of its free edges). For a
+//!   tet of four fixed vertices the best candidate point is then improved by a compass
+//!   search (Kolda, Lewis and Torczon, "Optimization by direct search", SIAM Review
+//!   2003): the points that lift such a tet often lie in a thin lens.
 
 use super::Smoothing;
 use crate::boundary::flips::{best_triangulation_above, Locks, MAX_RING};
@@ -362,9 +367,10 @@ impl Ops {
                 region.push(u);
             }
         }
-        let mut cavities = vec![region.clone(), vec![t]];
+        let mut cavities = vec![(region.clone(), None), (vec![t], None)];
         // The rings of its free edges: a flat tet on a flat part of the boundary (two
-        // constrained faces) is lifted by a point above its free edge.
+        // constrained faces) is lifted by a point above its free edge. The edge's
+        // midpoint always sees the whole ring (it splits each tet of the ring in two).
         for (i, j) in [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)] {
             if self.locks.edge(v[i], v[j]) {
                 continue;
@@ -372,16 +378,34 @@ impl Ops {
             if let Some(ring) = self.l.ring(v[i], v[j], &mut self.scratch) {
                 let tets: Vec<u32> = ring.iter().map(|x| x.0).collect();
                 if tets.iter().all(|&u| self.region_of(u) == r) {
-                    cavities.push(tets);
+                    let mid = (self.l.p(v[i]) + self.l.p(v[j])) * 0.5;
+                    cavities.push((tets, Some(mid)));
                 }
             }
         }
-        cavities.iter().any(|c| self.cone_new_point(c, r))
+        // The compass search only for a tet of four fixed vertices (on the boundary),
+        // which no move can improve (a flat tet between the thin walls of turbine, a
+        // tet across a fold of armadillo's surface: the point that lifts it lies in a
+        // lens a hundredth of the cavity's size). For every tet it inserts far more
+        // points for small local gains: armadillo 1.5 % more vertices, turbine 10 %, and
+        // turbine's share of Q_K < 3 from 92 % to 88 %.
+        let search = v.iter().all(|&x| self.fixed.get(x as usize) == Some(&true));
+        cavities
+            .iter()
+            .any(|(c, mid)| self.cone_new_point(c, *mid, search, r))
     }
 
-    /// Replaces `cavity` by the cone from a new point at the mean of the ideal points
-    /// of its boundary faces, if that improves its worst tet.
-    fn cone_new_point(&mut self, cavity: &[u32], r: u32) -> bool {
+    /// Replaces `cavity` by the cone from a new point, if that improves its worst tet:
+    /// the best of a few candidates (the mean of the ideal points of its boundary
+    /// faces, each face's ideal point, the centroid, `extra`), with `search` improved
+    /// by a compass search ([`compass`]).
+    fn cone_new_point(
+        &mut self,
+        cavity: &[u32],
+        extra: Option<Point>,
+        search: bool,
+        r: u32,
+    ) -> bool {
         let mut faces: Vec<[u32; 3]> = Vec::new();
         for &c in cavity {
             let v = self.l.tet(c);
@@ -402,6 +426,7 @@ impl Ops {
         }
         let corners: Vec<Point> = faces.iter().flatten().map(|&x| self.l.p(x)).collect();
         candidates.push(corners.iter().sum::<Point>() / corners.len().max(1) as f64);
+        candidates.extend(extra);
         let before = self.worst(cavity);
         let new: Vec<[u32; 4]> = faces.iter().map(|f| [f[0], f[1], f[2], u32::MAX]).collect();
         let score = |p: Point, bound: f64| {
@@ -421,9 +446,15 @@ impl Ops {
                 best = Some((s, p));
             }
         }
-        let Some((after, p)) = best else {
+        let Some((mut after, mut p)) = best else {
             return false;
         };
+        if search && after.is_finite() {
+            let (lo, hi) = corners
+                .iter()
+                .fold((p, p), |(lo, hi), &c| (lo.min(c), hi.max(c)));
+            (after, p) = compass(|q| score(q, after), p, after, 0.125 * lo.distance(hi));
+        }
         if after >= before {
             return false;
         }
@@ -466,6 +497,48 @@ impl Ops {
         let same = v != u32::MAX && t == self.l.p(v);
         (t.is_finite() && !same).then_some(t)
     }
+}
+
+/// Halvings of the compass search's step.
+const COMPASS_HALVINGS: usize = 12;
+
+/// A compass search from `p` (value `value`) for a lower `score`: steps of `step` along
+/// each axis, both ways, taken while they improve, then halved, [`COMPASS_HALVINGS`]
+/// times. `score` may return any value at or above its current best when a point is no
+/// better (an early exit). Returns the best value and point.
+pub(super) fn compass(
+    score: impl Fn(Point) -> f64,
+    mut p: Point,
+    mut value: f64,
+    step: f64,
+) -> (f64, Point) {
+    let mut step = step;
+    let dirs = [
+        Point::X,
+        -Point::X,
+        Point::Y,
+        -Point::Y,
+        Point::Z,
+        -Point::Z,
+    ];
+    for _ in 0..COMPASS_HALVINGS {
+        // At most a few moves per step length: the search is a last resort, kept cheap.
+        for _ in 0..4 {
+            let mut moved = false;
+            for d in dirs {
+                let q = p + d * step;
+                let s = score(q);
+                if s < value {
+                    (value, p, moved) = (s, q, true);
+                }
+            }
+            if !moved {
+                break;
+            }
+        }
+        step *= 0.5;
+    }
+    (value, p)
 }
 
 /// `values.fold(1.0, f64::max)` when that is below `bound`; otherwise the running maximum

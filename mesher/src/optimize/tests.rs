@@ -229,3 +229,21 @@ fn debug_worst_tet_of_a_file() {
     let r = optimize(&mut d, &OptimizeOptions::default());
     eprintln!("worst {} -> {}", r.worst_before, r.worst_after);
 }
+
+#[test]
+fn compass_search_finds_the_thin_valid_lens() {
+    // Valid only within 1e-3 of the segment x in [0, 1] on the x axis, best at
+    // (0.3, 4e-4, 0): from the segment's middle, with a first step a hundred times too
+    // long, the search must still get there.
+    let target = Point::new(0.3, 4e-4, 0.0);
+    let score = |p: Point| {
+        if p.y.abs() > 1e-3 || p.z.abs() > 1e-3 || !(0.0..=1.0).contains(&p.x) {
+            f64::INFINITY
+        } else {
+            1.0 + p.distance(target)
+        }
+    };
+    let start = Point::new(0.5, 0.0, 0.0);
+    let (value, p) = super::ops::compass(score, start, score(start), 0.1);
+    assert!(value < 1.0 + 1e-3, "{value} at {p:?}");
+}
