@@ -35,6 +35,25 @@ fn snapped(s: &Surface) -> Surface {
     transformed_with(s, |p| (p * g).round() / g)
 }
 
+/// `s` with every vertex moved radially by a pseudo-random fraction of at most 1 %.
+fn jittered(s: &Surface) -> Surface {
+    let mut x = 0x9E37_79B9_7F4A_7C15u64;
+    let mut out = s.clone();
+    for p in &mut out.vertices {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        let r = (x >> 11) as f64 / (1u64 << 53) as f64;
+        *p *= 1.0 + 0.02 * (r - 0.5);
+    }
+    out
+}
+
+/// Tolerances of copies of the same shape ([`scaled_copies_agree`]).
+const EXACT: (f64, f64) = (0.0, 0.01);
+/// Tolerances of copies rounded by the transformation.
+const ROUNDED: (f64, f64) = (0.03, 0.05);
+
 fn transformed_with(s: &Surface, f: impl Fn(Point) -> Point) -> Surface {
     Surface {
         vertices: s.vertices.iter().map(|&p| f(p)).collect(),
@@ -43,26 +62,30 @@ fn transformed_with(s: &Surface, f: impl Fn(Point) -> Point) -> Surface {
 }
 
 /// The unit copy against the copy offset by 1e6, the one with diagonal 1e-4 and the one
-/// scaled by 1e6. Copies of the same shape (`exact`: the input snapped so that the
-/// offset and the 1e6 scaling round nothing) give the same tet count, and the same
-/// worst Q_K to 1 %: the field points and the smoothed positions are inexact
-/// constructions whose last bits depend on the scale, and the optimiser's choices
-/// between near-equal moves follow them (measured on the level-2 sphere: 1308 tets in
-/// all four, worst Q_K 1.9903 / 2.0000 / 1.9969 / 1.9903, at most 0.5 %). Copies
-/// whose coordinates were rounded by the transformation are slightly different
-/// surfaces, and the front's discrete choices follow the last bits too: measured 1294
-/// tets unit, 1326 offset, 1299 at diagonal 1e-4, 1292 scaled by 1e6 (at most 2.5 %),
-/// worst Q_K 1.9938 / 1.9968 / 1.9995 / 1.9990; in another run 1322 / 1331 / 1320 /
-/// 1320 tets, worst Q_K 1.9937 / 2.0856 / 1.9982 / 1.9986 (4.6 %: the optimiser's path
-/// on a small symmetric mesh is chaotic); so those get 3 % and 5 %.
-fn scaled_copies_agree(name: &str, unit: &Surface, exact: bool) {
+/// scaled by 1e6, with tolerances `(tets, worst Q_K)` relative to the unit copy.
+///
+/// Copies of the same shape (the input snapped so that the offset and the 1e6 scaling
+/// round nothing) give the same tet count, and the same worst Q_K to 1 %: the field
+/// points and the smoothed positions are inexact constructions whose last bits depend
+/// on the scale, and the optimiser's choices between near-equal moves follow them
+/// (measured on the jittered level-2 sphere). Copies whose coordinates were rounded by
+/// the transformation are slightly different surfaces, and the front's discrete choices
+/// follow the last bits too (measured up to 2.5 % in tets, 4.6 % in worst Q_K: the
+/// optimiser's path on a small mesh is chaotic); so those get 3 % and 5 %.
+///
+/// The test surfaces are jittered: on the perfectly symmetric icosphere, whole classes
+/// of field points are cospherical in exact arithmetic, so the Delaunay kernel's choice
+/// among them is decided by the last bits of the constructions, and any copy may
+/// differ. Measured on its rounded copies: 8 % in tets at a point length of 1.1, 7 %
+/// at 1.25 (the jittered sphere: within 3 % at every length from 1.0 to 1.3); it gets
+/// 10 %.
+fn scaled_copies_agree(name: &str, unit: &Surface, (tet_tol, q_tol): (f64, f64)) {
     let (lo, hi) = unit.vertices.iter().fold(
         (Point::splat(f64::MAX), Point::splat(f64::MIN)),
         |(lo, hi), &p| (lo.min(p), hi.max(p)),
     );
     let diag = lo.distance(hi);
     let (tets, worst) = tets_and_worst(name, unit);
-    let (tet_tol, q_tol) = if exact { (0.0, 0.01) } else { (0.03, 0.05) };
     let mut table = format!("{name}: unit-scaled {tets} tets, worst Q_K {worst}");
     let mut ok = true;
     for (what, k, offset) in [
@@ -82,14 +105,20 @@ fn scaled_copies_agree(name: &str, unit: &Surface, exact: bool) {
 
 #[test]
 fn scaled_copies_of_a_sphere_mesh_alike() {
-    scaled_copies_agree("sphere", &snapped(&icosphere(2)), true);
-    scaled_copies_agree("sphere, rounded copies", &icosphere(2), false);
+    let sphere = jittered(&icosphere(2));
+    scaled_copies_agree("sphere", &snapped(&sphere), EXACT);
+    scaled_copies_agree("sphere, rounded copies", &sphere, ROUNDED);
+    scaled_copies_agree(
+        "symmetric sphere, rounded copies",
+        &icosphere(2),
+        (0.10, 0.05),
+    );
 }
 
 #[test]
 fn scaled_copies_of_a_cube_mesh_alike() {
-    scaled_copies_agree("cube", &snapped(&cube(3)), true);
-    scaled_copies_agree("cube, rounded copies", &cube(3), false);
+    scaled_copies_agree("cube", &snapped(&cube(3)), EXACT);
+    scaled_copies_agree("cube, rounded copies", &cube(3), ROUNDED);
 }
 
 #[test]

@@ -1,11 +1,12 @@
 //! The optimal point of a front face (paper §5.3.3): the apex of the ideal tetrahedron
 //! built on the face in the control space.
 //!
-//! Start at the centroid plus `n * hbar * sqrt(2/3)` (the height of the regular tet of
-//! edge `hbar`, the mean size at the face's vertices), `n` the unit normal towards the
-//! unacceptable tet. Then relax: on each line `XP` (`X` a face vertex) take the point
-//! `P_X = X + (P - X) / l(XP)` at unit normalised length from `X`, and move `P` by
-//! `alpha` towards the mean of the `P_X`; at most `steps` times (NOTES.md §6).
+//! Start at the centroid plus `n * L * hbar * sqrt(2/3)` (the height of the regular tet
+//! of edge `L * hbar`, `hbar` the mean size at the face's vertices, `L` the target
+//! length), `n` the unit normal towards the unacceptable tet. Then relax: on each line
+//! `XP` (`X` a face vertex) take the point `P_X = X + L (P - X) / l(XP)` at normalised
+//! length `L` from `X`, and move `P` by `alpha` towards the mean of the `P_X`; at most
+//! `steps` times (NOTES.md §6, where `L` is 1; see [`DEFAULT_POINT_LENGTH`]).
 
 use crate::geom::Point;
 use crate::sizing::{edge_length, LengthMode, SizeField};
@@ -34,17 +35,20 @@ impl Default for PointParams {
     }
 }
 
-/// Default target normalised length of the optimal point's edges: the paper's 1.
-/// Interior edges of a Delaunay mesh spread above the distance between neighbouring
-/// points, so unit apex edges give a mean interior edge of 1.20, a quarter of the edges
-/// below 1, and 1.35-1.65 times the tet count of Gmsh HXT on the same sizes (ci tier).
-/// Longer targets cut the count (measured on the ci tier: 1.1 gives 3-8 % fewer tets
-/// with 93-98 % of the edges still in [0.6, 1.67]; 1.2 with `delta_boundary` 0.85
-/// gives 1.08-1.33 times HXT's count), but not yet robustly: turbine's flat tet
-/// between thin walls is lifted at 1.0 and 1.1 only (worst Q_K 286 and 232, else
-/// 1.9e5), a cube at constant size keeps only 85 % of its edges in band at 1.2, and the
-/// rounded copies of a small symmetric sphere differ by 8 % in tet count at 1.1.
-pub const DEFAULT_POINT_LENGTH: f64 = 1.0;
+/// Default target normalised length of the optimal point's edges: 1.2, not the
+/// paper's 1. Interior edges of a Delaunay mesh spread above the distance between
+/// neighbouring points, so unit apex edges give a mean interior edge of 1.20, a quarter
+/// of the edges below 1, and 1.34-1.66 times the tet count of Gmsh HXT on the same
+/// sizes (ci tier, whose mean edge is 1.24-1.39). At 1.2 (ci tier, same run as HXT):
+/// 10-15 % fewer tets than at 1, 1.17-1.29 times HXT's count on sphere-10k, fandisk,
+/// elephant, torus and box-with-hole, 1.46-1.49 on the models whose first layer is
+/// most of the volume (knot2, nested-spheres, sphere-1k); 92-97 % of the edges in
+/// [0.6, 1.67]; worst Q_K a little higher on some fine models (fandisk 2.42 -> 2.71,
+/// box-with-hole 2.99 -> 3.89, still below every peer's) and lower on hinge (149 ->
+/// 74). A longer first layer too (`delta_boundary` 0.85) would bring those three to
+/// 1.23-1.33, but then turbine's flat tet between thin walls stays at Q_K 1.9e5 and a
+/// cube at constant size keeps only 85 % of its edges in band.
+pub const DEFAULT_POINT_LENGTH: f64 = 1.2;
 
 /// The height of the regular tetrahedron of unit edge, `sqrt(2/3)`.
 pub const REGULAR_HEIGHT: f64 = 0.816_496_580_927_726;
