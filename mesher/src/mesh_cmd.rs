@@ -133,6 +133,7 @@ fn params_from(args: &MeshArgs) -> Result<Params> {
     params.front.q_accept = args.q_accept;
     params.front.delta_boundary = args.delta_boundary;
     params.front.point.length = args.point_length;
+    params.front.seed_spacing = args.seed_spacing;
     params.front.filter_all_vertices = args.filter_all_vertices;
     params.front.point.mode = match args.length {
         Length::Endpoints => LengthMode::EndPoints,

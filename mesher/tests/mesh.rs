@@ -266,3 +266,36 @@ fn armadillo_fold_tet_of_four_boundary_vertices_is_lifted() {
     let o = r.optimize.expect("the optimisation ran");
     assert!(o.worst_after < 13.2, "worst {}", o.worst_after);
 }
+
+/// Seeds deep inside a sphere (a sparse lattice inserted before the first front) cut
+/// the kernel's cavity work: the first front's points are nearly cospherical, and
+/// without seeds each one's cavity spans much of the void; the mesh stays alike.
+#[test]
+fn seeds_cut_the_first_fronts_cavities() {
+    let s = icosphere(5);
+    let without = Params {
+        front: FrontParams {
+            seed_spacing: f64::INFINITY,
+            ..FrontParams::default()
+        },
+        ..Params::default()
+    };
+    let (_, r0) = check("sphere without seeds", &s, &without);
+    let (_, r1) = check("sphere with seeds", &s, &Params::default());
+    assert_eq!(r0.front.seeds, 0);
+    assert!(r1.front.seeds > 0);
+    assert!(
+        r1.front.cavity_tets * 3 < r0.front.cavity_tets * 2,
+        "{} vs {}",
+        r1.front.cavity_tets,
+        r0.front.cavity_tets
+    );
+    assert!((r1.tets as f64 / r0.tets as f64 - 1.0).abs() < 0.03);
+    let worst = |r: &Report| r.optimize.as_ref().unwrap().worst_after;
+    assert!(
+        worst(&r1) < 1.1 * worst(&r0),
+        "{} vs {}",
+        worst(&r1),
+        worst(&r0)
+    );
+}
