@@ -78,14 +78,20 @@ pub fn hilbert_key(coords: [u32; 3]) -> u64 {
     for c in &mut x {
         *c ^= t;
     }
-    // Interleave the transposed form, most significant bit first.
-    let mut key = 0u64;
-    for b in (0..HILBERT_BITS).rev() {
-        for c in &x {
-            key = (key << 1) | ((c >> b) & 1) as u64;
-        }
-    }
-    key
+    // Interleave the transposed form, most significant bit first: bit b of x[0] goes
+    // to bit 3b + 2 of the key, of x[1] to 3b + 1, of x[2] to 3b.
+    (spread3(x[0]) << 2) | (spread3(x[1]) << 1) | spread3(x[2])
+}
+
+/// The low [`HILBERT_BITS`] bits of `v`, bit b moved to bit 3b.
+fn spread3(v: u32) -> u64 {
+    let mut x = v as u64 & ((1 << HILBERT_BITS) - 1);
+    x = (x | x << 32) & 0x001f_0000_0000_ffff;
+    x = (x | x << 16) & 0x001f_0000_ff00_00ff;
+    x = (x | x << 8) & 0x100f_00f0_0f00_f00f;
+    x = (x | x << 4) & 0x10c3_0c30_c30c_30c3;
+    x = (x | x << 2) & 0x1249_2492_4924_9249;
+    x
 }
 
 /// Hilbert keys of `points` inside their bounding box (non-finite points get key 0).
@@ -183,6 +189,19 @@ mod tests {
             assert_ne!(w[0].0, w[1].0);
             let d: u32 = (0..3).map(|k| w[0].1[k].abs_diff(w[1].1[k])).sum();
             assert_eq!(d, 1, "consecutive Hilbert cells must be face neighbours");
+        }
+    }
+
+    #[test]
+    fn spread_moves_bit_b_to_bit_3b() {
+        let mut rng = SplitMix64::new(7);
+        for _ in 0..10_000 {
+            let v = rng.next_u64() as u32;
+            let mut want = 0u64;
+            for b in 0..HILBERT_BITS {
+                want |= (((v >> b) & 1) as u64) << (3 * b);
+            }
+            assert_eq!(spread3(v), want, "{v:#x}");
         }
     }
 

@@ -87,12 +87,15 @@ impl Level {
         Cell([p.x, p.y, p.z].map(|c| self.key(c)))
     }
 
-    /// The cell range of the ball of radius `r` around `p`, clipped.
+    /// The cell range of the box of half-side `r` around `p` (2 cells per axis when
+    /// `r` is at most a cell, not 3 around the point's own), clipped to [`MAX_SPAN`]
+    /// cells on each side of its own.
     fn range(&self, p: Point, r: f64) -> [(i64, i64); 3] {
-        let span = ((r / self.cell).ceil() as i64).clamp(0, MAX_SPAN);
         [p.x, p.y, p.z].map(|c| {
             let k = self.key(c);
-            (k - span, k + span)
+            let lo = self.key(c - r).clamp(k - MAX_SPAN, k);
+            let hi = self.key(c + r).clamp(k, k + MAX_SPAN);
+            (lo, hi)
         })
     }
 
