@@ -305,11 +305,8 @@ pub fn advance(
         if let Ok(removed) = insert(&mut kernel, fm, c)? {
             report.seeds += 1;
             tets = tets + kernel.new_tets().len() - removed;
-            grow(&mut accept, &mut ages, fm.mesh.num_slots());
-            for &t in kernel.new_tets() {
-                accept[t as usize] = false;
-                active.push(t);
-            }
+            let slots = fm.mesh.num_slots();
+            admit(&kernel, &mut accept, &mut ages, &mut active, slots, 0);
             last = kernel.new_tets().first().copied();
         }
     }
@@ -344,12 +341,8 @@ pub fn advance(
                 Ok(removed) => {
                     rec.inserted += 1;
                     tets = tets + kernel.new_tets().len() - removed;
-                    grow(&mut accept, &mut ages, fm.mesh.num_slots());
-                    for &t in kernel.new_tets() {
-                        ages.born[t as usize] = it;
-                        accept[t as usize] = false;
-                        active.push(t);
-                    }
+                    let slots = fm.mesh.num_slots();
+                    admit(&kernel, &mut accept, &mut ages, &mut active, slots, it);
                 }
                 Err(r) => {
                     rec.rejected += 1;
@@ -401,6 +394,24 @@ fn grow(accept: &mut Vec<bool>, ages: &mut Ages, n: usize) {
         accept.resize(n, false);
         ages.born.resize(n, 0);
         ages.tried.resize(n, 0);
+    }
+}
+
+/// Registers the tets of the kernel's last insertion (`slots` tet slots now): born in
+/// iteration `it` (0 before the first), unaccepted, active.
+fn admit(
+    kernel: &Kernel,
+    accept: &mut Vec<bool>,
+    ages: &mut Ages,
+    active: &mut Active,
+    slots: usize,
+    it: u32,
+) {
+    grow(accept, ages, slots);
+    for &t in kernel.new_tets() {
+        ages.born[t as usize] = it;
+        accept[t as usize] = false;
+        active.push(t);
     }
 }
 

@@ -11,6 +11,7 @@
 //! filtered against them).
 
 use super::{Candidate, FieldMesh, FrontParams};
+use crate::delaunay::sort::SplitMix64;
 use crate::geom::Point;
 use crate::sizing::SizeField;
 use crate::tetmesh::TetId;
@@ -28,6 +29,9 @@ pub(super) fn candidates(
     field: &dyn SizeField,
     params: &FrontParams,
 ) -> Vec<Candidate> {
+    if !(params.seed_spacing.is_finite() && params.seed_spacing > 0.0) {
+        return Vec::new();
+    }
     let mesh = &fm.mesh;
     let mut used = vec![false; fm.h.len()];
     let mut hint_tet = None;
@@ -46,7 +50,7 @@ pub(super) fn candidates(
     };
     let verts: Vec<usize> = (0..used.len()).filter(|&v| used[v]).collect();
     let mut sizes: Vec<f64> = verts.iter().map(|&v| fm.h[v]).collect();
-    if sizes.is_empty() || !(params.seed_spacing.is_finite() && params.seed_spacing > 0.0) {
+    if sizes.is_empty() {
         return Vec::new();
     }
     let mid = sizes.len() / 2;
@@ -99,16 +103,9 @@ pub(super) fn candidates(
 /// regular lattice is cospherical eight points at a time, and the kernel's choices
 /// among near-cospherical points make needlessly large cavities.
 fn jitter(i: u32, j: u32, k: u32) -> Point {
-    let mut x = (i as u64) << 42 ^ (j as u64) << 21 ^ k as u64 ^ 0x9E37_79B9_7F4A_7C15;
-    let mut next = || {
-        // splitmix64
-        x = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = x;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    };
+    let key = (i as u64) << 42 ^ (j as u64) << 21 ^ k as u64;
+    let mut rng = SplitMix64::new(key ^ 0x9E37_79B9_7F4A_7C15);
+    let mut next = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0;
     Point::new(next(), next(), next()) * JITTER
 }
 

@@ -510,9 +510,8 @@ pub(super) fn compass(
     score: impl Fn(Point) -> f64,
     mut p: Point,
     mut value: f64,
-    step: f64,
+    mut step: f64,
 ) -> (f64, Point) {
-    let mut step = step;
     let dirs = [
         Point::X,
         -Point::X,
