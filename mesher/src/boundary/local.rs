@@ -36,14 +36,25 @@ pub(crate) struct Local {
     v2t: Vec<u32>,
     /// Tets created by the last successful [`Local::replace`].
     pub created: Vec<u32>,
-    /// Undo log of the changes since [`Local::mark`]: created tets, replaced tets.
-    journal: Vec<(Vec<u32>, Vec<[u32; 4]>)>,
+    /// Undo log of the changes since [`Local::mark`].
+    journal: Vec<Change>,
     journaling: bool,
     /// Validate the whole mesh after every change (`MESHER_VALIDATE_OPS` set; slow).
     validate_ops: bool,
     /// Per tet slot: the visit number of the last search that saw it.
     seen: std::cell::RefCell<Vec<u32>>,
     visit: std::cell::Cell<u32>,
+    /// When the tets at each vertex last changed.
+    pub stamps: Stamps,
+}
+
+/// One journalled change: the tets it created, the tets it replaced, and the stamps it
+/// overwrote (vertex, stamp), so that an undone change leaves no stamp.
+#[derive(Debug)]
+struct Change {
+    created: Vec<u32>,
+    replaced: Vec<[u32; 4]>,
+    stamps: Vec<(u32, u32)>,
 }
 
 /// A face key: sorted vertex ids and whether the given order is an even permutation of
@@ -84,6 +95,7 @@ impl Local {
             validate_ops: std::env::var_os("MESHER_VALIDATE_OPS").is_some(),
             seen: Default::default(),
             visit: Default::default(),
+            stamps: Stamps::default(),
         };
         l.rebuild_v2t();
         l
@@ -320,57 +332,41 @@ impl Local {
 
     /// For each triangle (mesh vertex ids), the tet faces that are that triangle: per tet
     /// slot, the triangle index on each of its four faces (`u32::MAX` for none). One
-    /// star per vertex, visited once for all triangles whose smallest vertex it is.
+    /// sweep over the tets with a hash of the triangles.
     pub fn triangle_faces(&self, tris: &[[u32; 3]]) -> Vec<[u32; 4]> {
+        let mut index: HashMap<[u32; 3], u32> = HashMap::default();
+        index.reserve(tris.len());
+        for (k, t) in tris.iter().enumerate() {
+            index.insert(face_key(*t).0, k as u32);
+        }
         let mut out = vec![[u32::MAX; 4]; self.mesh.num_slots()];
-        let mut order: Vec<u32> = (0..tris.len() as u32).collect();
-        let key = |k: u32| *tris[k as usize].iter().min().unwrap_or(&0);
-        order.sort_unstable_by_key(|&k| (key(k), k));
-        let mut star = Vec::new();
-        let mut current = u32::MAX;
-        for k in order {
-            let t = tris[k as usize];
-            let v = key(k);
-            if v != current {
-                self.star(v, &mut star);
-                current = v;
-            }
-            for &s in &star {
-                let tv = self.tet(s);
-                if tv[3] == GHOST || !t.iter().all(|x| tv.contains(x)) {
-                    continue;
-                }
-                if let Some(i) = (0..4).find(|&i| !t.contains(&tv[i])) {
-                    out[s as usize][i] = k;
+        for t in self.mesh.finite_tets() {
+            let v = self.tet(t.0);
+            for (i, f) in FACE_VERTICES.iter().enumerate() {
+                if let Some(&k) = index.get(&face_key(f.map(|j| v[j])).0) {
+                    out[t.index()][i] = k;
                 }
             }
         }
         out
     }
 
-    /// Which edges (mesh vertex ids) are in the mesh: one star per vertex, visited once
-    /// for all edges whose smallest vertex it is.
+    /// Which edges (mesh vertex ids) are in the mesh: one sweep over the tets with a
+    /// hash of the edges.
     pub fn edges_present(&self, edges: &[(u32, u32)]) -> Vec<bool> {
+        let mut index: HashMap<(u32, u32), u32> = HashMap::default();
+        index.reserve(edges.len());
+        for (k, &(a, b)) in edges.iter().enumerate() {
+            index.insert((a.min(b), a.max(b)), k as u32);
+        }
         let mut out = vec![false; edges.len()];
-        let mut order: Vec<u32> = (0..edges.len() as u32).collect();
-        let key = |k: u32| {
-            let (a, b) = edges[k as usize];
-            a.min(b)
-        };
-        order.sort_unstable_by_key(|&k| (key(k), k));
-        let mut star = Vec::new();
-        let mut current = u32::MAX;
-        for k in order {
-            let (a, b) = edges[k as usize];
-            let v = key(k);
-            let w = a.max(b);
-            if v != current {
-                self.star(v, &mut star);
-                current = v;
+        for t in self.mesh.finite_tets() {
+            let v = self.tet(t.0);
+            for (i, j) in [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)] {
+                if let Some(&k) = index.get(&(v[i].min(v[j]), v[i].max(v[j]))) {
+                    out[k as usize] = true;
+                }
             }
-            out[k as usize] = star
-                .iter()
-                .any(|&s| !self.is_ghost(s) && self.tet(s).contains(&w));
         }
         out
     }
@@ -444,13 +440,19 @@ impl Local {
     /// Reverts the changes recorded since `mark`, newest first.
     pub fn undo(&mut self, mark: usize) {
         while self.journal.len() > mark {
-            let Some((created, old)) = self.journal.pop() else {
+            let Some(Change {
+                created,
+                replaced,
+                stamps,
+            }) = self.journal.pop()
+            else {
                 break;
             };
             let was = std::mem::replace(&mut self.journaling, false);
             // The inverse of a checked change is valid, so this cannot be refused.
-            let r = self.replace(&created, &old);
+            let r = self.replace(&created, &replaced);
             debug_assert!(r.is_ok(), "undo refused: {r:?}");
+            self.stamps.restore(&stamps);
             self.journaling = was;
         }
     }
@@ -472,7 +474,7 @@ impl Local {
             match self.mesh.alloc_tet() {
                 Some(t) => ids.push(t),
                 None => {
-                    for &t in &ids[old.len().min(ids.len())..] {
+                    for &t in ids[old.len().min(ids.len())..].iter().rev() {
                         self.mesh.free_tet(t);
                     }
                     return Err(Refused::Full);
@@ -481,9 +483,21 @@ impl Local {
         }
         if self.journaling {
             let before: Vec<[u32; 4]> = old.iter().map(|&t| self.tet(t)).collect();
-            self.journal.push((ids.clone(), before));
+            // The undo stamps the old tets' vertices, the new ones' were stamped now.
+            let stamps = self
+                .stamps
+                .read(new.iter().chain(&before).flatten().copied());
+            self.journal.push(Change {
+                created: ids.clone(),
+                replaced: before,
+                stamps,
+            });
         }
-        for &t in old.iter().skip(new.len()) {
+        // Freed in reverse: the free list is a stack, so the inverse change (an undo)
+        // allocates these same slots in the same order, and frees the slots this
+        // change allocates back in the order they were taken. Slot ids then match
+        // the journal however long the chain of undone changes.
+        for &t in old.iter().skip(new.len()).rev() {
             self.mesh.free_tet(t);
         }
         for (k, t) in new.iter().enumerate() {
@@ -507,8 +521,60 @@ impl Local {
                 panic!("replace {old:?} -> {new:?} broke the mesh: {e}");
             }
         }
+        self.stamps
+            .touch(ids.iter().flat_map(|&t| self.mesh.raw_tet(t)));
         self.created = ids;
         Ok(())
+    }
+}
+
+/// Per vertex: the value of `clock` when a tet at it last changed (made, or reshaped
+/// by a move). Every [`Local::replace`] stamps the vertices of the tets it makes; a
+/// vertex move is stamped by its caller. A local operation that reads only the tets at
+/// some vertices and is deterministic fails again while none of them has changed, so
+/// callers remember a failure with the clock and retry only after a change.
+#[derive(Debug, Default)]
+pub(crate) struct Stamps {
+    stamp: Vec<u32>,
+    /// Changes so far.
+    pub clock: u32,
+}
+
+impl Stamps {
+    /// Records a change at the vertices `verts` (one tick of the clock).
+    pub fn touch(&mut self, verts: impl IntoIterator<Item = u32>) {
+        self.clock = self.clock.wrapping_add(1).max(1);
+        for x in verts {
+            let i = x as usize;
+            if i >= self.stamp.len() {
+                self.stamp.resize((i + 1).max(self.stamp.len() * 5 / 4), 0);
+            }
+            self.stamp[i] = self.clock;
+        }
+    }
+
+    /// The stamps of `verts` (repetitions included), for [`Stamps::restore`].
+    fn read(&self, verts: impl IntoIterator<Item = u32>) -> Vec<(u32, u32)> {
+        verts
+            .into_iter()
+            .map(|x| (x, self.stamp.get(x as usize).copied().unwrap_or(0)))
+            .collect()
+    }
+
+    /// Puts back stamps saved by [`Stamps::read`].
+    fn restore(&mut self, saved: &[(u32, u32)]) {
+        for &(x, s) in saved.iter().rev() {
+            if let Some(slot) = self.stamp.get_mut(x as usize) {
+                *slot = s;
+            }
+        }
+    }
+
+    /// True when a tet at one of `verts` changed after the clock read `since`.
+    pub fn changed_since(&self, verts: &[u32], since: u32) -> bool {
+        verts
+            .iter()
+            .any(|&x| self.stamp.get(x as usize).is_some_and(|&s| s > since))
     }
 }
 

@@ -142,3 +142,50 @@ fn debug_model() {
         }
     }
 }
+
+/// The live tets as sorted vertex tuples, sorted.
+fn tet_set(mesh: &TetMesh) -> Vec<[u32; 4]> {
+    let mut out: Vec<[u32; 4]> = mesh
+        .tets()
+        .map(|t| {
+            let mut v = mesh.raw_tet(t.0);
+            v.sort_unstable();
+            v
+        })
+        .collect();
+    out.sort_unstable();
+    out
+}
+
+#[test]
+fn a_long_chain_of_changes_is_undone_exactly_and_leaves_no_stamp() {
+    // Flips and vertex removals (a star of many tets replaced by a smaller cone: many
+    // slots freed at once, then taken again by the undo, in the same order).
+    let (mesh, _, _) = delaunay(&icosphere(2), &[], &BoundaryOptions::default()).unwrap();
+    let before = tet_set(&mesh);
+    let mut rec = Recovery::new(Local::new(mesh));
+    let clock = rec.l.stamps.clock;
+    let verts: Vec<u32> = (8..rec.l.mesh.num_vertices() as u32).collect();
+    let mark = rec.l.mark();
+    let mut changes = 0;
+    for (k, &v) in verts.iter().enumerate() {
+        if k % 3 == 0 && rec.remove_vertex(v) {
+            changes += 1;
+            continue;
+        }
+        let t = rec.l.mesh.finite_tets().nth(k * 7).map(|t| t.0);
+        if let Some(t) = t {
+            if flips::flip23(&mut rec.l, &rec.locks, t, k % 4, &mut rec.flips).is_ok() {
+                changes += 1;
+            }
+        }
+    }
+    assert!(changes > 20, "{changes}");
+    rec.l.mesh.validate(false).unwrap();
+    rec.l.undo(mark);
+    rec.l.forget();
+    rec.l.mesh.validate(false).unwrap();
+    assert_eq!(tet_set(&rec.l.mesh), before);
+    let all: Vec<u32> = (0..rec.l.mesh.num_vertices() as u32).collect();
+    assert!(!rec.l.stamps.changed_since(&all, clock));
+}

@@ -233,14 +233,14 @@ fn pass(
         // vertices has changed since (it would fail again: the operations are local
         // and deterministic, so skipping it changes nothing but the time).
         if let Some(&since) = failed.get(&key) {
-            if !retry_changed || !ops.stamps.changed_since(&v, since) {
+            if !retry_changed || !ops.l.stamps.changed_since(&v, since) {
                 continue;
             }
         }
         if improve(ops, t, v, options, &mut stats) {
             ops.l.forget();
         } else {
-            failed.insert(key, ops.stamps.clock);
+            failed.insert(key, ops.l.stamps.clock);
         }
     }
     stats

@@ -47,43 +47,9 @@ pub(super) struct Ops {
     /// vertex clears its ball's entries ([`Self::smooth`]). The passes rescan every tet,
     /// and most of them are unchanged since the last scan.
     qcache: Vec<Cell<([u32; 4], f64)>>,
-    /// When the tets at each vertex last changed.
-    pub stamps: Stamps,
     /// Edge removals (key: the edge as called) and vertex moves (key: `(v, v)`) that
     /// failed, with the clock then ([`Self::unless_failed`]).
     failed_ops: FastMap<(u32, u32), u32>,
-}
-
-/// Per vertex: the value of `clock` when a tet at it last changed (made, or reshaped
-/// by a move). Every operation reads only the tets at the vertices it names and their
-/// neighbours, and is deterministic, so one that failed after those vertices' last
-/// change fails again.
-#[derive(Default)]
-pub(super) struct Stamps {
-    stamp: Vec<u32>,
-    /// Changes so far.
-    pub clock: u32,
-}
-
-impl Stamps {
-    /// Records a change at the vertices `verts` (one tick of the clock).
-    fn touch(&mut self, verts: impl IntoIterator<Item = u32>) {
-        self.clock = self.clock.wrapping_add(1).max(1);
-        for x in verts {
-            let i = x as usize;
-            if i >= self.stamp.len() {
-                self.stamp.resize((i + 1).max(self.stamp.len() * 5 / 4), 0);
-            }
-            self.stamp[i] = self.clock;
-        }
-    }
-
-    /// True when a tet at one of `verts` changed after the clock read `since`.
-    pub fn changed_since(&self, verts: &[u32], since: u32) -> bool {
-        verts
-            .iter()
-            .any(|&x| self.stamp.get(x as usize).is_some_and(|&s| s > since))
-    }
 }
 
 /// A [`Ops::qcache`] entry that matches no tet.
@@ -99,7 +65,6 @@ impl Ops {
             fixed,
             scratch: Vec::new(),
             qcache,
-            stamps: Stamps::default(),
             failed_ops: FastMap::default(),
         }
     }
@@ -160,21 +125,19 @@ impl Ops {
         for &t in &self.l.created {
             self.region[t as usize] = r;
         }
-        let l = &self.l;
-        self.stamps.touch(l.created.iter().flat_map(|&t| l.tet(t)));
     }
 
     /// `op()`, unless the operation `key` failed and nothing at its vertices has
     /// changed since (it would fail again); a failure is remembered.
     fn unless_failed(&mut self, key: (u32, u32), op: impl FnOnce(&mut Self) -> bool) -> bool {
         if let Some(&since) = self.failed_ops.get(&key) {
-            if !self.stamps.changed_since(&[key.0, key.1], since) {
+            if !self.l.stamps.changed_since(&[key.0, key.1], since) {
                 return false;
             }
         }
         let done = op(self);
         if !done {
-            self.failed_ops.insert(key, self.stamps.clock);
+            self.failed_ops.insert(key, self.l.stamps.clock);
         }
         done
     }
@@ -339,8 +302,8 @@ impl Ops {
                             entry.set(STALE);
                         }
                     }
-                    let l = &self.l;
-                    self.stamps.touch(star.iter().flat_map(|&t| l.tet(t)));
+                    let verts: Vec<u32> = star.iter().flat_map(|&t| self.l.tet(t)).collect();
+                    self.l.stamps.touch(verts);
                     return true;
                 }
             }
