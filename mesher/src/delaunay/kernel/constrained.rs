@@ -248,7 +248,7 @@ impl Kernel {
     ) -> Result<(), Rejection> {
         let rounds = CORRECTION_ROUNDS_PER_TET * self.cavity.len() + 2;
         for _ in 0..rounds {
-            let bad = match self.cavity_boundary(mesh, cons, p) {
+            let bad = match self.cavity_boundary(mesh, cons, p, start) {
                 Some(c) => Some(c),
                 None => self.lost_vertex_tet(mesh, start),
             };
@@ -267,7 +267,13 @@ impl Kernel {
 
     /// Fills `boundary` from the cavity; returns a cavity tet that must leave (a face
     /// that does not see `p` strictly inside, or a constrained face inside the cavity).
-    fn cavity_boundary(&mut self, mesh: &TetMesh, cons: &Constraints, p: Point) -> Option<u32> {
+    fn cavity_boundary(
+        &mut self,
+        mesh: &TetMesh,
+        cons: &Constraints,
+        p: Point,
+        start: u32,
+    ) -> Option<u32> {
         let filter = self.filter_for(p);
         self.boundary.clear();
         for &c in &self.cavity {
@@ -275,14 +281,24 @@ impl Kernel {
             let verts = mesh.raw_tet(c);
             for (i, &a) in adj.iter().enumerate() {
                 let inner = self.marks[(a >> 2) as usize] == IN;
+                let f = FACE_VERTICES[i];
+                let q = |k: usize| mesh.point(VertexId(verts[f[k]]));
                 if inner {
                     if cons.is_constrained(c, i) {
-                        return Some(c);
+                        // The cavity went round the constrained face (an unrecovered
+                        // surface does not close it off): the tet on the far side of
+                        // the face from `p` leaves, never the start tet.
+                        let u = a >> 2;
+                        let p_on_c_side =
+                            filter.orient3d(q(0), q(1), q(2), p) == Orientation::Positive;
+                        return Some(if c == start || (p_on_c_side && u != start) {
+                            u
+                        } else {
+                            c
+                        });
                     }
                     continue;
                 }
-                let f = FACE_VERTICES[i];
-                let q = |k: usize| mesh.point(VertexId(verts[f[k]]));
                 if filter.orient3d(q(0), q(1), q(2), p) != Orientation::Positive {
                     return Some(c);
                 }
@@ -450,6 +466,47 @@ mod tests {
         // Each constrained face is listed from both sides, before and after.
         assert_eq!(constrained_faces(&mesh, &cons), before);
         assert!(k.new_tets().iter().all(|&n| cons.region[n as usize] == 1));
+    }
+
+    #[test]
+    fn a_cavity_round_a_lone_constrained_face_keeps_its_start() {
+        // One constrained face that closes off nothing (a surface not recovered yet):
+        // the cavity of a point next to it reaches the tet behind it the long way
+        // round. That tet leaves the cavity, not the one holding the point.
+        let (mut mesh, mut cons) = grid();
+        let mut done = 0;
+        for t in mesh
+            .finite_tets()
+            .collect::<Vec<_>>()
+            .into_iter()
+            .step_by(7)
+        {
+            let (mut m2, mut c2) = (mesh.clone(), cons.clone());
+            let nb = m2.neighbor(t, 0);
+            if m2.is_ghost(nb.tet()) {
+                continue;
+            }
+            c2.face_mask[t.index()] |= 1;
+            c2.face_mask[nb.tet().index()] |= 1 << nb.facet();
+            let q = m2.tet_points(t);
+            let face = (q[1] + q[2] + q[3]) / 3.0;
+            let p = face + ((q[0] + q[1] + q[2] + q[3]) / 4.0 - face) * 0.05;
+            let before = constrained_faces(&m2, &c2);
+            let mut k = Kernel::new();
+            k.constrained_cavity(&m2, &c2, p, Some(t))
+                .expect("the point goes in");
+            assert!(k.cavity_tets().contains(&t.0));
+            assert!(!k.cavity_tets().contains(&nb.tet().0));
+            k.commit_cavity(&mut m2, &mut c2, p).unwrap();
+            m2.validate(false).unwrap();
+            assert_eq!(constrained_faces(&m2, &c2), before);
+            done += 1;
+            (mesh, cons) = (m2, c2);
+            if done == 5 {
+                break;
+            }
+        }
+        assert_eq!(done, 5);
     }
 
     #[test]
