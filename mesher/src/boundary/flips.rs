@@ -85,6 +85,10 @@ pub(crate) enum Choice {
     With([u32; 3]),
     /// The fan from this ring vertex, else the best.
     FanFrom(u32),
+    /// The fan from this ring vertex only.
+    Fan(u32),
+    /// The best one with the diagonal between these two ring vertices.
+    Chord(u32, u32),
 }
 
 /// Removes edge `xy` by re-triangulating its ring.
@@ -128,6 +132,11 @@ pub(crate) fn remove_edge(
         Choice::Best => best_triangulation(&(0..poly.len()).collect::<Vec<_>>(), &valid),
         Choice::With(t) => match (pos(t[0]), pos(t[1]), pos(t[2])) {
             (Some(i), Some(j), Some(k)) => forced(poly.len(), [i, j, k], &valid),
+            _ => None,
+        },
+        Choice::Fan(v) => pos(v).and_then(|s| fan(poly.len(), s, &valid)),
+        Choice::Chord(p, q) => match (pos(p), pos(q)) {
+            (Some(i), Some(j)) => chord(poly.len(), i.min(j), i.max(j), &valid),
             _ => None,
         },
         Choice::FanFrom(v) => pos(v)
@@ -182,6 +191,24 @@ fn fan(n: usize, s: usize, q: &impl Fn(usize, usize, usize) -> f64) -> Option<Ve
     tris.iter()
         .all(|t| q(t[0], t[1], t[2]) > 0.0)
         .then_some(tris)
+}
+
+/// The best triangulation containing the diagonal `ij` (polygon indices, `i < j`):
+/// the best of each of the two polygons it cuts off.
+fn chord(
+    n: usize,
+    i: usize,
+    j: usize,
+    q: &impl Fn(usize, usize, usize) -> f64,
+) -> Option<Vec<[usize; 3]>> {
+    if j - i < 2 || n - (j - i) < 2 {
+        return None;
+    }
+    let first: Vec<usize> = (i..=j).collect();
+    let second: Vec<usize> = (j..n).chain(0..=i).collect();
+    let mut out = best_triangulation(&first, q)?;
+    out.extend(best_triangulation(&second, q)?);
+    Some(out)
 }
 
 /// The best triangulation containing triangle `t` (polygon indices).

@@ -43,6 +43,8 @@ impl Recovery {
         }
         self.l.refresh();
         self.locks = Locks::default();
+        // The kernel changed the mesh without stamps: every entity is tried again.
+        self.failed.clear();
         out
     }
 

@@ -6,15 +6,19 @@
 //!
 //! Steiner points (the "interior Steiner points preferred" strategy of George,
 //! Borouchaki and Saltel, "'Ultimate' robustness in meshing an arbitrary polyhedron",
-//! IJNME 2003): when an entity stays stuck after the flips, a point is placed off the
-//! surface on each side of it, at a fraction of its length, and those points go into
-//! the recovered mesh by the constrained Delaunay kernel (`insert`; a rebuild from
-//! scratch is the fallback), then the next pass recovers what is still missing. Points
-//! that end up outside
-//! the domain disappear with the outside; the others are reported. Only when interior
-//! points fail is a stuck edge split at a point exactly on it (`split`), which keeps the
-//! boundary of T(S,F) the input surface as a point set; such points are reported and
-//! taken out again where the mesh allows.
+//! IJNME 2003): when an edge stays stuck after the flips, a point goes into the first
+//! tet it meets from each end, where it is stuck (a stuck triangle gets a point off
+//! each side), and those points go into the recovered mesh by the constrained Delaunay
+//! kernel (`insert`; a rebuild from scratch is the fallback), then the next pass
+//! recovers what is still missing. Points that end up outside the domain disappear
+//! with the outside; the others are reported. Only when interior points fail is a
+//! stuck edge split (`split`), at the point nearest the recovered edge that blocks it
+//! (Si's rule in TetGen), exactly on it when a representable point is, which keeps
+//! the boundary of T(S,F) the input surface as a point set; such points are reported
+//! and taken out again where the mesh allows.
+//!
+//! A recovery that failed is not tried again until a tet at the vertices it met has
+//! changed (`Local`'s stamps): the attempt is local and deterministic.
 //!
 //! Entry point: [`boundary_mesh`] -> ([`BoundaryMesh`], [`BoundaryReport`]) or a typed
 //! [`BoundaryError`] that names the entity and where it is.
@@ -58,7 +62,7 @@ const MAX_PASSES: usize = 4;
 /// Split rounds in a row that may leave as many stuck entities as the best round
 /// before the recovery gives up: splitting creates new edges, and on some surfaces
 /// (long thin coplanar triangles) they stay stuck as often as the old ones.
-pub const STALLED_SPLIT_ROUNDS: usize = 3;
+pub const STALLED_SPLIT_ROUNDS: usize = 5;
 
 /// Parameters of the boundary mesh; the defaults follow NOTES.md §1.
 #[derive(Clone, Debug, PartialEq)]
@@ -93,7 +97,7 @@ impl Default for BoundaryOptions {
             steiner_rounds: 2,
             steiner_offset: 0.3,
             check_input: true,
-            split_rounds: 8,
+            split_rounds: 16,
             incremental: true,
         }
     }
@@ -360,7 +364,15 @@ fn boundary_attempt(
         if round + 1 < options.steiner_rounds {
             let scale = options.steiner_offset / (1 << round.min(30)) as f64;
             for s in &stuck {
-                fresh.extend(steiner_for(&work.surface, *s, scale, round));
+                match *s {
+                    Entity::Edge(a, b, _) => {
+                        let (ma, mb) = (cur.sv[a as usize].0, cur.sv[b as usize].0);
+                        fresh.extend(cur.rec.crossing_points(ma, mb));
+                    }
+                    Entity::Face(k) => {
+                        fresh.extend(steiner_for_face(&work.surface, k, scale, round))
+                    }
+                }
             }
         } else if round < rounds {
             if stuck.len() < split_best.0 {
@@ -376,9 +388,16 @@ fn boundary_attempt(
             for s in &stuck {
                 match *s {
                     Entity::Edge(a, b, _) => {
-                        work.split_edge(a, b);
+                        // At the point nearest the locked edge that blocks it, with
+                        // interior points where it is stuck as well.
+                        let (ma, mb) = (cur.sv[a as usize].0, cur.sv[b as usize].0);
+                        let t = cur.rec.blocker_parameter(ma, mb).unwrap_or(0.5);
+                        fresh.extend(cur.rec.crossing_points(ma, mb));
+                        work.split_edge(a, b, t);
                     }
-                    Entity::Face(_) => fresh.extend(steiner_for(&work.surface, *s, 0.05, round)),
+                    Entity::Face(k) => {
+                        fresh.extend(steiner_for_face(&work.surface, k, 0.05, round))
+                    }
                 }
             }
             edges = input_edges(&work.surface);
@@ -481,16 +500,28 @@ fn suppress_splits(
     sv: &[VertexId],
     report: &mut BoundaryReport,
 ) {
-    for k in (0..work.splits.len()).rev() {
-        let split = work.splits[k];
-        let Some((cd, tris)) = work.star(split) else {
-            continue;
-        };
-        let m = |i: u32| sv[i as usize].0;
-        if rec.suppress_split(split.map(m), cd.map(m)) {
-            work.merge(split, tris);
-            work.removed[k] = true;
-            report.steiner_on_edges_removed += 1;
+    // Newest first (an older split's star is whole again once the newer splits on it
+    // are gone); passes repeat while one removes some, since removing one can free
+    // another.
+    for _ in 0..4 {
+        let before = report.steiner_on_edges_removed;
+        for k in (0..work.splits.len()).rev() {
+            if work.removed[k] {
+                continue;
+            }
+            let split = work.splits[k];
+            let Some((cd, tris)) = work.star(split) else {
+                continue;
+            };
+            let m = |i: u32| sv[i as usize].0;
+            if rec.suppress_split(split.map(m), cd.map(m)) {
+                work.merge(split, tris);
+                work.removed[k] = true;
+                report.steiner_on_edges_removed += 1;
+            }
+        }
+        if report.steiner_on_edges_removed == before {
+            break;
         }
     }
 }
@@ -682,7 +713,7 @@ fn recover_all(
         }
         stuck_edges.clear();
         for &(a, b, t) in &missing {
-            match rec.segment(m(a), m(b), options.flip_budget) {
+            match rec.segment_once_per_change(m(a), m(b), options.flip_budget) {
                 Ok(()) => lock_edge(rec, m(a), m(b)),
                 Err(Stuck::Through(v)) if is_surface.get(v as usize) == Some(&true) => {
                     return Err(on_entity(surface, sv, v, &[a, b]))
@@ -737,7 +768,7 @@ fn recover_all(
         still.clear();
         for &k in &pending {
             let f = surface.triangles[k as usize].map(m);
-            match rec.face(f, options.flip_budget) {
+            match rec.face_once_per_change(f, options.flip_budget) {
                 Ok(()) => {
                     rec.locks.faces.insert(sorted(f));
                 }
@@ -827,37 +858,26 @@ fn describe(surface: &Surface, e: Entity) -> String {
     }
 }
 
-/// Interior Steiner points for a stuck entity: off its middle on both sides of the
-/// surface, at `scale` times its size (more directions in later rounds).
-fn steiner_for(surface: &Surface, e: Entity, scale: f64, round: usize) -> Vec<Point> {
-    let v = &surface.vertices;
-    let normal = |k: u32| {
-        let [a, b, c] = surface.triangles[k as usize].map(|i| v[i as usize]);
-        (b - a).cross(c - a).normalize_or_zero()
-    };
-    let (mid, size, n) = match e {
-        // The size is the smallest height of the triangle(s) involved: on long thin
-        // triangles a point placed at a fraction of the edge length would land near
-        // unrelated parts of the surface.
-        Entity::Edge(a, b, t) => {
-            let (pa, pb) = (v[a as usize], v[b as usize]);
-            let len = (pb - pa).length();
-            ((pa + pb) * 0.5, len.min(min_height(surface, t)), normal(t))
-        }
-        Entity::Face(k) => {
-            let [a, b, c] = surface.triangles[k as usize].map(|i| v[i as usize]);
-            ((a + b + c) / 3.0, min_height(surface, k), normal(k))
-        }
-    };
+/// Interior Steiner points for a stuck triangle `k`: off its centroid on both sides of
+/// the surface, at `scale` times its smallest height (more directions in later rounds).
+/// (A stuck edge gets points in the tets it meets first instead,
+/// [`Recovery::crossing_points`].)
+fn steiner_for_face(surface: &Surface, k: u32, scale: f64, round: usize) -> Vec<Point> {
+    let [a, b, c] = surface.triangles[k as usize].map(|i| surface.vertices[i as usize]);
+    let n = (b - a).cross(c - a).normalize_or_zero();
+    // The smallest height: on long thin triangles a point placed at a fraction of the
+    // edge length would land near unrelated parts of the surface.
+    let (mid, size) = ((a + b + c) / 3.0, min_height(surface, k));
     // An irregular factor, so that points of neighbouring entities do not line up with
     // the grid-like planes of CAD models (a point exactly on a face blocks it).
-    let key = match e {
-        Entity::Edge(a, b, _) => a as u64 * 0x9E37_79B9 + b as u64,
-        Entity::Face(k) => k as u64 * 0x85EB_CA6B + 7,
-    };
+    let key = k as u64 * 0x85EB_CA6B + 7;
     let jitter =
         1.0 + 0.2 * ((key.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 11) as f64 / (1u64 << 53) as f64);
-    let d = n * size * scale * jitter;
+    // A small oblique part: a purely normal offset from an axis-aligned triangle keeps
+    // one coordinate, and the point can land exactly on a coplanar triangle next to it
+    // (seen on cheese), which forces a rebuild.
+    let oblique = Point::new(0.31, 0.27, 0.14);
+    let d = (n + oblique * 0.05) * size * scale * jitter;
     let mut out = vec![mid - d, mid + d];
     if round % 2 == 1 {
         // A second pair, tilted, so that a rebuild does not meet the same tie again.

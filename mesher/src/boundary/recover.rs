@@ -94,6 +94,14 @@ pub(crate) fn first_crossing(l: &Local, a: u32, b: u32, star: &mut Vec<u32>) -> 
     Crossing::Lost
 }
 
+/// A failed recovery: the clock then, whether Steiner points were allowed, and the
+/// vertices of the tets the entity met (`None`: too many to list).
+pub(super) struct Failure {
+    since: u32,
+    steiner: bool,
+    verts: Option<Vec<u32>>,
+}
+
 /// The recovery state: the mesh, the locks, counters and scratch space.
 pub(crate) struct Recovery {
     pub l: Local,
@@ -105,6 +113,9 @@ pub(crate) struct Recovery {
     pub allow_steiner: bool,
     pub(super) scratch: Vec<u32>,
     star: Vec<u32>,
+    /// Entities whose recovery failed (an edge is `[a, b, u32::MAX]`, a triangle its
+    /// sorted vertices).
+    pub(super) failed: HashMap<[u32; 3], Failure>,
 }
 
 impl Recovery {
@@ -117,7 +128,144 @@ impl Recovery {
             allow_steiner: false,
             scratch: Vec::new(),
             star: Vec::new(),
+            failed: HashMap::default(),
         }
+    }
+
+    /// True when the recovery of `key` failed before, with the same Steiner setting,
+    /// and no tet at the vertices it met has changed since: the attempt is local and
+    /// deterministic, so it would fail again.
+    fn failed_unchanged(&self, key: &[u32; 3]) -> bool {
+        self.failed.get(key).is_some_and(|f| {
+            f.steiner == self.allow_steiner
+                && f.verts
+                    .as_ref()
+                    .is_some_and(|v| !self.l.stamps.changed_since(v, f.since))
+        })
+    }
+
+    /// Remembers a failed recovery of `key`, with the tets it meets (`met`).
+    fn remember_failure(&mut self, key: [u32; 3], met: Option<Vec<u32>>) {
+        let verts = met.map(|m| {
+            let mut v: Vec<u32> = m.iter().flat_map(|&t| self.l.tet(t)).collect();
+            v.sort_unstable();
+            v.dedup();
+            v
+        });
+        let failure = Failure {
+            since: self.l.stamps.clock,
+            steiner: self.allow_steiner,
+            verts,
+        };
+        self.failed.insert(key, failure);
+    }
+
+    /// [`Recovery::segment`], unless it failed before and nothing it met has changed.
+    /// The flips of a failed attempt stay (each lowered the number of tets the segment
+    /// meets, progress for a later attempt, as TetGen keeps them too); the failure is
+    /// remembered with the clock after them.
+    pub fn segment_once_per_change(&mut self, a: u32, b: u32, budget: usize) -> Result<(), Stuck> {
+        let key = [a.min(b), a.max(b), u32::MAX];
+        if self.failed_unchanged(&key) {
+            return Err(Stuck::NoFlip);
+        }
+        let r = self.segment(a, b, budget);
+        self.l.forget();
+        if r == Err(Stuck::NoFlip) {
+            let met = self.met_tets(a, b);
+            self.remember_failure(key, met);
+        }
+        r
+    }
+
+    /// Interior Steiner candidates for a stuck segment `ab`, one where it is stuck at
+    /// each end: in the first tet it meets from that end, a quarter of the way from
+    /// where it leaves that tet towards the tet's centroid, and no farther from the
+    /// segment than a tenth of its length (the tets at a big face can be huge, and a
+    /// far point only adds edges that cross other entities). Inexact constructions;
+    /// the kernel locates them exactly.
+    pub fn crossing_points(&mut self, a: u32, b: u32) -> Vec<Point> {
+        let (pa, pb) = (self.l.p(a), self.l.p(b));
+        let len = (pb - pa).length();
+        let mut out = Vec::new();
+        for (f, t) in [(a, b), (b, a)] {
+            let (tet, exit) = match first_crossing(&self.l, f, t, &mut self.star) {
+                Crossing::Face(tt, i) => {
+                    let v = self.l.tet(tt);
+                    let fv = FACE_VERTICES[i].map(|k| self.l.p(v[k]));
+                    (Some(tt), segment_plane(pa, pb, fv))
+                }
+                Crossing::Edge(x, y) => {
+                    let tt = self.star.iter().copied().find(|&tt| {
+                        let v = self.l.tet(tt);
+                        !self.l.is_ghost(tt) && v.contains(&f) && v.contains(&x) && v.contains(&y)
+                    });
+                    let (px, py) = (self.l.p(x), self.l.p(y));
+                    let at =
+                        closest_parameter(pa, pb - pa, px, py).map(|(s, _)| pa + (pb - pa) * s);
+                    (tt, at)
+                }
+                _ => (None, None),
+            };
+            let Some(tt) = tet else {
+                continue;
+            };
+            let v = self.l.tet(tt);
+            let centroid = v.iter().map(|&x| self.l.p(x)).sum::<Point>() / 4.0;
+            let Some(exit) = exit.filter(|e| e.is_finite()) else {
+                out.push(centroid);
+                continue;
+            };
+            let mut d = (centroid - exit) * 0.25;
+            if d.length() > 0.1 * len {
+                d *= 0.1 * len / d.length();
+            }
+            out.push(exit + d);
+        }
+        out
+    }
+
+    /// Where to split a stuck segment `ab`: the parameter along it of the point
+    /// closest to the nearest recovered (locked) edge among the tets it meets, the
+    /// constraint that blocks its flips (the idea of Si's `add_steinerpt_in_segment`,
+    /// TetGen); `None` when no locked edge passes beside the open segment.
+    pub fn blocker_parameter(&mut self, a: u32, b: u32) -> Option<f64> {
+        let met = self.met_tets(a, b)?;
+        let (pa, pb) = (self.l.p(a), self.l.p(b));
+        let d = pb - pa;
+        let mut best: Option<(f64, f64)> = None;
+        for &t in &met {
+            let v = self.l.tet(t);
+            for (i, j) in [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)] {
+                let (x, y) = (v[i], v[j]);
+                if [x, y].iter().any(|w| *w == a || *w == b) || !self.locks.edge(x, y) {
+                    continue;
+                }
+                let Some((tp, dist)) = closest_parameter(pa, d, self.l.p(x), self.l.p(y)) else {
+                    continue;
+                };
+                if (0.02..=0.98).contains(&tp) && best.is_none_or(|(_, bd)| dist < bd) {
+                    best = Some((tp, dist));
+                }
+            }
+        }
+        best.map(|(tp, _)| tp)
+    }
+
+    /// [`Recovery::face`], unless it failed before and nothing it crossed has changed.
+    pub fn face_once_per_change(&mut self, tri: [u32; 3], budget: usize) -> Result<(), Stuck> {
+        let mut key = tri;
+        key.sort_unstable();
+        if self.failed_unchanged(&key) {
+            return Err(Stuck::NoFlip);
+        }
+        let r = self.face(tri, budget);
+        self.l.forget();
+        if r == Err(Stuck::NoFlip) {
+            let met = self.crossing_tets(tri);
+            self.remember_failure(key, met);
+        }
+        r
     }
 
     /// True when edge `ab` is in the mesh.
@@ -131,42 +279,75 @@ impl Recovery {
     }
 
     /// Recovers segment `ab` by flips within `budget` operations: first the simplex the
-    /// segment meets first from either end (progress is certain when the flip is
-    /// valid), else any flip among the simplices it crosses that lowers the number of
-    /// tets it meets (the full search), undone when it does not.
+    /// segment meets first from either end, else any flip among the simplices it
+    /// crosses that lowers the number of tets it meets (the full search).
+    ///
+    /// At the first crossing from an end, a 2-3 flip of the crossed face or the removal
+    /// of the crossed edge by the fan from that end leaves the segment in one new tet
+    /// where it crossed two or more: the chain of tets it meets gets shorter, so these
+    /// need no check. Any other change (an edge of the face, the best re-triangulation,
+    /// a preparatory removal) is kept only if the number of tets met strictly drops,
+    /// so there are no cycles.
     pub fn segment(&mut self, a: u32, b: u32, budget: usize) -> Result<(), Stuck> {
+        // Tets the segment meets, when known for the current mesh.
+        let mut met: Option<usize> = None;
         for _ in 0..budget {
-            self.l.forget();
             let mut progressed = false;
-            let before = self.met_tets(a, b).map_or(usize::MAX, |m| m.len());
             for (from, to) in [(a, b), (b, a)] {
-                let mark = self.l.mark();
-                match first_crossing(&self.l, from, to, &mut self.star) {
+                let crossing = first_crossing(&self.l, from, to, &mut self.star);
+                let direct = match crossing {
                     Crossing::Present => return Ok(()),
                     Crossing::Vertex(v) => return Err(Stuck::Through(v)),
                     Crossing::Lost => return Err(Stuck::NoFlip),
-                    Crossing::Face(t, i) => progressed = self.unblock_face(t, i),
-                    Crossing::Edge(x, y) => {
-                        progressed = self.remove(x, y, Choice::FanFrom(from));
+                    Crossing::Face(t, i) => {
+                        flip23(&mut self.l, &self.locks, t, i, &mut self.flips).is_ok()
                     }
-                }
-                // Only a strict decrease of the tets met counts: no cycles.
-                if progressed
-                    && !self.has_edge(a, b)
-                    && self.met_tets(a, b).is_none_or(|m| m.len() >= before)
-                {
-                    self.l.undo(mark);
-                    progressed = false;
-                }
-                if progressed {
+                    // The ring of the crossed edge may hold both ends (the segment
+                    // crosses that edge only): then the removal can make `ab` at once.
+                    Crossing::Edge(x, y) => {
+                        self.remove_once(x, y, Choice::Fan(from))
+                            || self.remove_once(x, y, Choice::Chord(a, b))
+                    }
+                };
+                if direct {
+                    met = None;
+                    progressed = true;
                     break;
                 }
+                let before = match met {
+                    Some(m) => m,
+                    None => self.met_tets(a, b).map_or(usize::MAX, |m| m.len()),
+                };
+                met = Some(before);
+                let mark = self.l.mark();
+                let changed = match crossing {
+                    Crossing::Face(t, i) => self.unblock_face(t, i),
+                    Crossing::Edge(x, y) => self.remove(x, y, Choice::FanFrom(from)),
+                    _ => false,
+                };
+                if !changed {
+                    continue;
+                }
+                if self.has_edge(a, b) {
+                    return Ok(());
+                }
+                match self.met_tets(a, b).map(|m| m.len()) {
+                    Some(after) if after < before => {
+                        met = Some(after);
+                        progressed = true;
+                        break;
+                    }
+                    // Only a strict decrease of the tets met counts: no cycles.
+                    _ => self.l.undo(mark),
+                }
             }
-            if !progressed && !self.segment_full_search(a, b) {
-                break;
+            if !progressed {
+                if !self.segment_full_search(a, b) {
+                    break;
+                }
+                met = None;
             }
         }
-        self.l.forget();
         if self.has_edge(a, b) {
             return Ok(());
         }
@@ -176,7 +357,6 @@ impl Recovery {
             self.met_tets(p, q)
                 .is_some_and(|seed| self.cone(p, &seed, &[q]))
         }) || (self.allow_steiner && self.schonhardt(a, b));
-        self.l.forget();
         if done && self.has_edge(a, b) {
             Ok(())
         } else {
@@ -554,12 +734,9 @@ impl Recovery {
         .is_ok()
     }
 
-    /// Removes the face opposite vertex `i` of `t` by a 2-3 flip, or else removes one of
-    /// its edges (the reflex one first) so that a later 2-3 flip can succeed.
+    /// Removes one edge of the face opposite vertex `i` of `t` (the reflex one first), so
+    /// that a later 2-3 flip of the face can succeed (the 2-3 flip itself was refused).
     fn unblock_face(&mut self, t: u32, i: usize) -> bool {
-        if flip23(&mut self.l, &self.locks, t, i, &mut self.flips).is_ok() {
-            return true;
-        }
         let v = self.l.tet(t);
         let f = FACE_VERTICES[i].map(|k| v[k]);
         let d = v[i];
@@ -589,7 +766,6 @@ impl Recovery {
     /// removal lowers the number of crossing edges (undone when it does not).
     pub fn face(&mut self, tri: [u32; 3], budget: usize) -> Result<(), Stuck> {
         for _ in 0..budget {
-            self.l.forget();
             if self.has_face(tri[0], tri[1], tri[2]) {
                 return Ok(());
             }
@@ -618,7 +794,6 @@ impl Recovery {
                 let others = [tri[(k + 1) % 3], tri[(k + 2) % 3]];
                 self.cone(tri[k], &seed, &others)
             });
-            self.l.forget();
             if coned && self.has_face(tri[0], tri[1], tri[2]) {
                 return Ok(());
             }
@@ -626,7 +801,6 @@ impl Recovery {
                 return Err(Stuck::NoFlip);
             }
         }
-        self.l.forget();
         if self.has_face(tri[0], tri[1], tri[2]) {
             Ok(())
         } else {
@@ -917,4 +1091,35 @@ impl Recovery {
         ];
         (0..3).all(|k| s[k] == r[k] || s[k] == Orientation::Zero)
     }
+}
+
+/// The closest points of the line `p + t d` and the segment `xy` (inexact): the
+/// parameter `t` and the distance, or `None` for (nearly) parallel lines or when the
+/// closest point of the line `xy` is outside the segment.
+fn closest_parameter(p: Point, d: Point, x: Point, y: Point) -> Option<(f64, f64)> {
+    let e = y - x;
+    let w = p - x;
+    let (a, b, c) = (d.dot(d), d.dot(e), e.dot(e));
+    let (dd, ee) = (d.dot(w), e.dot(w));
+    let den = a * c - b * b;
+    if den <= 1e-12 * a * c {
+        return None;
+    }
+    let t = (b * ee - c * dd) / den;
+    let s = (a * ee - b * dd) / den;
+    if !(0.0..=1.0).contains(&s) {
+        return None;
+    }
+    Some((t, ((p + d * t) - (x + e * s)).length()))
+}
+
+/// Where the line through `a` and `b` meets the plane of triangle `f` (inexact), or
+/// `None` when it is (nearly) parallel to it.
+fn segment_plane(a: Point, b: Point, f: [Point; 3]) -> Option<Point> {
+    let n = (f[1] - f[0]).cross(f[2] - f[0]);
+    let den = n.dot(b - a);
+    if den.abs() <= f64::EPSILON * n.length() * (b - a).length() {
+        return None;
+    }
+    Some(a + (b - a) * (n.dot(f[0] - a) / den))
 }

@@ -14,26 +14,19 @@
 //! differences share no power of two. Then the rounded middle is used, within rounding
 //! of the edge, and a split point that cannot be taken out again is reported as inexact.
 
-use crate::geom::predicates::on_open_segment;
+use crate::geom::predicates::{on_open_segment, orient3d};
 use crate::geom::Point;
 use crate::surface::Surface;
 
-/// Dyadic fractions tried for the split point, best first (middle, then towards it).
-const FRACTIONS: [(u32, u32); 13] = [
-    (1, 2),
-    (3, 8),
-    (5, 8),
-    (7, 16),
-    (9, 16),
-    (1, 4),
-    (3, 4),
-    (5, 16),
-    (11, 16),
-    (13, 32),
-    (19, 32),
-    (15, 32),
-    (17, 32),
-];
+/// Denominator of the dyadic fractions tried near the wanted split parameter, nearest
+/// first.
+const SPLIT_DENOMINATOR: u32 = 64;
+/// Farthest a split point near the wanted parameter may be from it.
+const SPLIT_SLACK: f64 = 0.1;
+/// Simple dyadic fractions tried after those: an exact split point matters more than
+/// its place (a point off its edge by rounding is hard to take out again on a flat
+/// part of the surface).
+const SIMPLE_FRACTIONS: [f64; 7] = [0.5, 0.25, 0.75, 0.375, 0.625, 0.125, 0.875];
 
 /// The input surface refined by boundary Steiner points.
 #[derive(Clone, Debug)]
@@ -65,11 +58,23 @@ impl Refined {
         }
     }
 
-    /// Splits the edge `(a, b)` (refined vertex ids) and the triangles on it near its
-    /// middle. False when no representable point lies strictly between its ends.
-    pub fn split_edge(&mut self, a: u32, b: u32) -> bool {
+    /// Splits the edge `(a, b)` (refined vertex ids) and the triangles on it near the
+    /// parameter `t` (0 at `a`, 1 at `b`). False when no representable point lies
+    /// strictly between its ends.
+    pub fn split_edge(&mut self, a: u32, b: u32, t: f64) -> bool {
         let v = &self.surface.vertices;
-        let Some((m, exact)) = split_point(v[a as usize], v[b as usize]) else {
+        let (pa, pb) = (v[a as usize], v[b as usize]);
+        // The apexes of the triangles on the edge.
+        let apexes: Vec<Point> = self
+            .surface
+            .triangles
+            .iter()
+            .filter(|t| t.contains(&a) && t.contains(&b))
+            .filter_map(|t| t.iter().find(|&&x| x != a && x != b))
+            .map(|&x| v[x as usize])
+            .collect();
+        let keeps_fold = |m: Point| folds_alike(pa, pb, m, &apexes);
+        let Some((m, exact)) = split_point(pa, pb, t, keeps_fold) else {
             return false;
         };
         let mid = v.len() as u32;
@@ -152,27 +157,83 @@ impl Refined {
     }
 }
 
-/// A point strictly inside the segment `ab` near its middle, and whether it is exactly
-/// on the segment.
-fn split_point(a: Point, b: Point) -> Option<(Point, bool)> {
+/// A point strictly inside the segment `ab` near parameter `t`, and whether it is
+/// exactly on the segment: the nearest dyadic fraction `k / 64` (within
+/// [`SPLIT_SLACK`]) whose point is exactly on it, else the first of
+/// [`SIMPLE_FRACTIONS`] that is. When none is, a point within rounding of the segment
+/// for which `usable` holds (the rounded fractions and their neighbouring floats), else
+/// the rounded point at `t`.
+fn split_point(
+    a: Point,
+    b: Point,
+    t: f64,
+    usable: impl Fn(Point) -> bool,
+) -> Option<(Point, bool)> {
     let d = b - a;
-    let exact = FRACTIONS.iter().find_map(|&(k, n)| {
-        let t = k as f64 / n as f64;
-        [a + d * t, b - d * (1.0 - t), a * (1.0 - t) + b * t]
+    let t = if t.is_finite() {
+        t.clamp(0.05, 0.95)
+    } else {
+        0.5
+    };
+    let mut fractions: Vec<f64> = (1..SPLIT_DENOMINATOR)
+        .map(|k| k as f64 / SPLIT_DENOMINATOR as f64)
+        .filter(|f| (f - t).abs() <= SPLIT_SLACK)
+        .collect();
+    fractions.sort_by(|x, y| (x - t).abs().total_cmp(&(y - t).abs()).then(x.total_cmp(y)));
+    fractions.extend(SIMPLE_FRACTIONS);
+    let candidates = |f: f64| [a + d * f, b - d * (1.0 - f), a * (1.0 - f) + b * f];
+    let exact = fractions.iter().find_map(|&f| {
+        candidates(f)
             .into_iter()
             .find(|&m| on_open_segment(a, b, m))
     });
     if let Some(m) = exact {
         return Some((m, true));
     }
-    let m = a + d * 0.5;
-    let between = (0..3).all(|i| m[i] >= a[i].min(b[i]) && m[i] <= a[i].max(b[i]));
-    (between && m != a && m != b).then_some((m, false))
+    let between = |m: Point| {
+        (0..3).all(|i| m[i] >= a[i].min(b[i]) && m[i] <= a[i].max(b[i])) && m != a && m != b
+    };
+    let nudged = fractions.iter().find_map(|&f| {
+        candidates(f)
+            .into_iter()
+            .flat_map(neighbours)
+            .find(|&m| between(m) && usable(m))
+    });
+    if let Some(m) = nudged {
+        return Some((m, false));
+    }
+    let m = a + d * t;
+    between(m).then_some((m, false))
+}
+
+/// `p` and the points one float away from it in any coordinates (27 in all).
+fn neighbours(p: Point) -> impl Iterator<Item = Point> {
+    let step = |x: f64, k: usize| match k {
+        0 => x,
+        1 => x.next_down(),
+        _ => x.next_up(),
+    };
+    (0..27).map(move |k| Point::new(step(p.x, k % 3), step(p.y, k / 3 % 3), step(p.z, k / 9)))
+}
+
+/// True when a point `m` off the edge `ab` by rounding splits the triangles on it
+/// (apexes `apexes`) without changing how they fold: each half of one triangle puts
+/// the other triangle's apex on the same side as the whole triangle does (exactly
+/// coplanar on a flat part). A point that inverts a thin fold cannot be taken out
+/// again.
+fn folds_alike(a: Point, b: Point, m: Point, apexes: &[Point]) -> bool {
+    apexes.iter().all(|&c| {
+        apexes.iter().filter(|&&d| d != c).all(|&d| {
+            let whole = orient3d(a, b, c, d);
+            orient3d(a, m, c, d) == whole && orient3d(m, b, c, d) == whole
+        })
+    })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geom::predicates::Orientation;
     use crate::surface::generate;
 
     #[test]
@@ -186,19 +247,43 @@ mod tests {
             (Point::new(1.0, 1.0, 1.0), Point::new(1.0, 1.0, 3.0)),
         ];
         for (a, b) in pts {
-            let (m, exact) = split_point(a, b).expect("a point on the segment");
+            let (m, exact) = split_point(a, b, 0.5, |_| true).expect("a point on the segment");
             assert!(exact && on_open_segment(a, b, m));
         }
         // Adjacent floats have nothing in between.
         let a = Point::new(1.0, 1.0, 1.0);
-        assert!(split_point(a, Point::new(1.0, 1.0, 1.0f64.next_up())).is_none());
+        assert!(split_point(a, Point::new(1.0, 1.0, 1.0f64.next_up()), 0.5, |_| true).is_none());
         // Decimal input: no representable point is on the segment; the rounded middle.
         let (a, b) = (
             Point::new(6.205, -37.807, -199.941),
             Point::new(18.518, -36.27, -151.941),
         );
-        let (m, exact) = split_point(a, b).expect("a point near the middle");
+        let (m, exact) = split_point(a, b, 0.5, |_| true).expect("a point near the middle");
         assert!(!exact && (m - (a + b) * 0.5).length() < 1e-12);
+    }
+
+    #[test]
+    fn a_rounded_split_point_keeps_a_thin_fold_folded() {
+        // From cheese (an edge of a previous split, so no representable point on it):
+        // two triangles on the edge folded almost flat onto each other. Rounded points
+        // on the edge can put the other apex on the wrong side of a half triangle (the
+        // split could then never be taken out again); the chosen point never does.
+        let a = Point::new(-0.0473389998, 0.0063570002, 0.0363470018);
+        let b = Point::new(-0.04755556370625, 0.00648168760625, 0.034399875275);
+        let c = Point::new(-0.04744006295625, 0.00641518765625, 0.034681876025);
+        let d = Point::new(-0.047562782503125, 0.006485843853124999, 0.0350914377875);
+        assert_ne!(orient3d(a, b, c, d), Orientation::Zero);
+        let ok = |m: Point| folds_alike(a, b, m, &[c, d]);
+        let mut inverted_by_rounding = 0;
+        for k in 4..60 {
+            let t = k as f64 / 64.0;
+            if !ok(a + (b - a) * t) {
+                inverted_by_rounding += 1;
+            }
+            let (m, exact) = split_point(a, b, t, ok).expect("a split point");
+            assert!(exact || ok(m), "t = {t}");
+        }
+        assert!(inverted_by_rounding > 0);
     }
 
     #[test]
@@ -206,7 +291,7 @@ mod tests {
         let s = generate::cube(1);
         let mut r = Refined::new(&s);
         let [a, b, _] = s.triangles[0];
-        assert!(r.split_edge(a, b));
+        assert!(r.split_edge(a, b, 0.5));
         assert_eq!(r.splits.len(), 1);
         assert_eq!(r.surface.triangles.len(), s.triangles.len() + 2);
         assert!(r.surface.check().is_clean());

@@ -24,6 +24,13 @@ const MAX_DEGREE_FLIPS: usize = 8;
 
 /// Tets a side of a split point's star may take in from outside the star.
 const MAX_SIDE_GROWTH: usize = 256;
+
+/// A face of a side passes "through" its split point when it is this close to it,
+/// relative to the nearest vertex ([`Recovery::near_point`]).
+const NEAR_FACE: f64 = 1e-6;
+
+/// Perceptron steps that turn the direction off a split point into every face near it.
+const PERCEPTRON_STEPS: usize = 64;
 use crate::geom::predicates::{orient3d, Orientation};
 use crate::geom::Point;
 use crate::tetmesh::{FaceRef, FACE_VERTICES};
@@ -72,7 +79,15 @@ impl Recovery {
     /// made on a failed attempt stay: each is a checked, valid change that keeps every
     /// lock (the undo journal cannot replay a chain of flips that re-use tet slots).
     pub fn remove_steiner(&mut self, s: u32) -> bool {
-        if self.remove_vertex(s) || self.remove_grown(s) {
+        self.with_fewer_edges(s, |rec| rec.remove_vertex(s) || rec.remove_grown(s))
+    }
+
+    /// `remove()`, and if it fails, again after each edge removal at `s` (each lowers
+    /// its degree, which may make its star easier to re-tetrahedralise); bounded. The
+    /// flips made on a failed attempt stay: each is a checked, valid change that keeps
+    /// every lock.
+    fn with_fewer_edges(&mut self, s: u32, mut remove: impl FnMut(&mut Self) -> bool) -> bool {
+        if remove(self) {
             return true;
         }
         self.l.forget();
@@ -101,7 +116,7 @@ impl Recovery {
             if !removed {
                 break;
             }
-            if self.remove_vertex(s) || self.remove_grown(s) {
+            if remove(self) {
                 self.l.forget();
                 return true;
             }
@@ -148,7 +163,12 @@ impl Recovery {
     /// Removes the split point `m` of input edge `(u, w)`, whose surface star is the
     /// triangles `(u, m, c)`, `(m, w, c)`, `(u, m, d)`, `(m, w, d)`; on success the
     /// mesh has the faces `(u, w, c)` and `(u, w, d)` and the locks follow.
-    pub fn suppress_split(&mut self, [m, u, w]: [u32; 3], [c, d]: [u32; 2]) -> bool {
+    pub fn suppress_split(&mut self, split: [u32; 3], cd: [u32; 2]) -> bool {
+        self.with_fewer_edges(split[0], |rec| rec.suppress_split_once(split, cd))
+    }
+
+    /// [`Recovery::suppress_split`] on the star as it is.
+    fn suppress_split_once(&mut self, [m, u, w]: [u32; 3], [c, d]: [u32; 2]) -> bool {
         let mut star = Vec::new();
         self.l.star(m, &mut star);
         if star.is_empty() || star.iter().any(|&t| self.l.is_ghost(t)) {
@@ -166,7 +186,12 @@ impl Recovery {
                 return self.give_up(&added);
             };
             // The unsplit triangles, seen from this side: a tet of the side on
-            // (u, m, c) tells which side of the plane it is.
+            // (u, m, c) tells which side of the plane it is. Its far vertex is tested
+            // against the unsplit triangle itself: in a thin fold of the surface the
+            // other triangle's vertex is that far vertex, and a split point off its
+            // edge by rounding can put it on the other side of (u, m, c). Only when
+            // it is in the unsplit triangle's plane (a flat part) does the split
+            // triangle decide.
             for x in [c, d] {
                 let Some(q) = side.iter().find_map(|&t| {
                     let v = self.l.tet(t);
@@ -176,7 +201,11 @@ impl Recovery {
                 }) else {
                     return self.give_up(&added);
                 };
-                faces.push(if self.l.orient(u, m, x, q) == Orientation::Positive {
+                let side_of = match self.l.orient(u, w, x, q) {
+                    Orientation::Zero => self.l.orient(u, m, x, q),
+                    o => o,
+                };
+                faces.push(if side_of == Orientation::Positive {
                     [u, w, x]
                 } else {
                     [w, u, x]
@@ -418,31 +447,58 @@ impl Recovery {
     /// A point near `m` strictly inside every face of `faces`: off `m` along the
     /// bisector of the two `cut` faces (a part of the star of `m` sees every link face
     /// from points close enough to `m`, and the cut faces from inside their wedge).
+    /// Faces that pass within rounding of `m` (slivers of its star, a split point off
+    /// its edge by rounding) turn the direction until it points inside them all
+    /// (perceptron steps over their normals), as far as they allow.
     fn near_point(&self, m: u32, cut: &[[u32; 3]], faces: &[[u32; 3]]) -> Option<Point> {
         let pm = self.l.p(m);
         let normal = |f: &[u32; 3]| {
             let [a, b, c] = f.map(|v| self.l.p(v));
             (b - a).cross(c - a).normalize_or_zero()
         };
-        let dir = cut.iter().map(normal).sum::<Point>().normalize_or_zero();
+        let bisector = cut.iter().map(normal).sum::<Point>().normalize_or_zero();
         let size = faces
             .iter()
             .flatten()
             .map(|&v| (self.l.p(v) - pm).length())
             .fold(f64::INFINITY, f64::min);
-        if dir == Point::ZERO || !size.is_finite() {
+        if bisector == Point::ZERO || !size.is_finite() {
             return None;
         }
-        (1..48).find_map(|k| {
-            let p = pm + dir * (size * 0.5f64.powi(k));
-            faces
-                .iter()
-                .all(|f| {
-                    let [a, b, c] = f.map(|v| self.l.p(v));
-                    orient3d(a, b, c, p) == Orientation::Positive
-                })
-                .then_some(p)
-        })
+        let inside_all = |dir: Point| {
+            (1..48).find_map(|k| {
+                let p = pm + dir * (size * 0.5f64.powi(k));
+                faces
+                    .iter()
+                    .all(|f| {
+                        let [a, b, c] = f.map(|v| self.l.p(v));
+                        orient3d(a, b, c, p) == Orientation::Positive
+                    })
+                    .then_some(p)
+            })
+        };
+        if let Some(p) = inside_all(bisector) {
+            return Some(p);
+        }
+        let mut dir = bisector;
+        let close: Vec<Point> = faces
+            .iter()
+            .filter(|f| {
+                let p0 = self.l.p(f[0]);
+                normal(f).dot(pm - p0).abs() <= NEAR_FACE * size
+            })
+            .map(normal)
+            .collect();
+        for _ in 0..PERCEPTRON_STEPS {
+            let Some(n) = close.iter().find(|n| n.dot(dir) <= 0.0) else {
+                break;
+            };
+            dir = (dir + *n).normalize_or_zero();
+            if dir == Point::ZERO {
+                return None;
+            }
+        }
+        inside_all(dir)
     }
 
     /// Takes back the points added by a failed suppression (the newest vertices).
