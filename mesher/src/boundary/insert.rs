@@ -24,28 +24,56 @@ const ANY_REGION: u32 = 1;
 impl Recovery {
     /// Inserts `points` into the mesh by the constrained Delaunay kernel, the locked
     /// faces being the constraints. Returns the new vertex of each point, or `None`
-    /// where the kernel rejected it. The locks are cleared afterwards: the next
-    /// recovery pass locks again what is present.
+    /// where the kernel rejected it. Afterwards the locks hold exactly the locked
+    /// entities still present (a cavity takes an edge or face away only if all its
+    /// vertices are on the cavity's boundary: only those are looked up again), so the
+    /// next recovery pass needs no sweep over the whole mesh.
     pub(super) fn insert_points(&mut self, points: &[Point]) -> Vec<Option<u32>> {
         self.l.forget();
         let mut cons = self.lock_constraints();
         let mut kernel = Kernel::new();
         let mut out = Vec::with_capacity(points.len());
+        let mut touched = vec![false; self.l.mesh.num_vertices() + points.len()];
         for &p in points {
             let v = match kernel.constrained_cavity(&self.l.mesh, &cons, p, None) {
-                Ok(()) => kernel
-                    .commit_cavity(&mut self.l.mesh, &mut cons, p)
-                    .ok()
-                    .map(|v| v.0),
+                Ok(()) => {
+                    for x in kernel.cavity_vertices() {
+                        touched[x.index()] = true;
+                    }
+                    kernel
+                        .commit_cavity(&mut self.l.mesh, &mut cons, p)
+                        .ok()
+                        .map(|v| v.0)
+                }
                 Err(_) => None,
             };
             out.push(v);
         }
         self.l.refresh();
-        self.locks = Locks::default();
+        self.keep_surviving_locks(&touched);
         // The kernel changed the mesh without stamps: every entity is tried again.
         self.failed.clear();
         out
+    }
+
+    /// Drops the locks of the entities the insertions took away: of those whose
+    /// vertices were all `touched` (on a cavity's boundary), the ones no longer in the
+    /// mesh.
+    fn keep_surviving_locks(&mut self, touched: &[bool]) {
+        let hit = |x: u32| touched.get(x as usize).copied().unwrap_or(true);
+        let old = std::mem::take(&mut self.locks);
+        let mut locks = Locks::default();
+        for (a, b) in old.edges {
+            if !(hit(a) && hit(b)) || self.has_edge(a, b) {
+                locks.edges.insert((a, b));
+            }
+        }
+        for f in old.faces {
+            if !f.iter().all(|&x| hit(x)) || self.has_face(f[0], f[1], f[2]) {
+                locks.faces.insert(f);
+            }
+        }
+        self.locks = locks;
     }
 
     /// The kernel's constraints: the locked faces masked on both sides, every finite

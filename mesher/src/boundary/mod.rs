@@ -47,6 +47,7 @@ use crate::geom::{Aabb, Point};
 use crate::surface::Surface;
 use crate::tetmesh::{TetMesh, VertexId};
 use crate::volume::VolumeMesh;
+use flips::Locks;
 use local::Local;
 use recover::{Recovery, Stuck};
 use serde::Serialize;
@@ -689,7 +690,12 @@ fn recover_all(
     let mut bad: Vec<Point> = Vec::new();
     let mut missing: Vec<(u32, u32, u32)> = Vec::new();
     let mesh_edges: Vec<(u32, u32)> = edges.iter().map(|&(a, b, _)| (m(a), m(b))).collect();
-    let present = rec.l.edges_present(&mesh_edges);
+    // Locks kept from an incremental round tell what is present without a sweep;
+    // faces are locked again only after the edges (as in a fresh round), so flips for
+    // the edges may take some away: those are looked up again (see `faces_now`).
+    let kept = std::mem::take(&mut rec.locks);
+    let since = rec.l.stamps.clock;
+    let present = edges_now(rec, &kept, &mesh_edges);
     for (&(a, b, t), &here) in edges.iter().zip(&present) {
         if here {
             lock_edge(rec, m(a), m(b));
@@ -742,7 +748,7 @@ fn recover_all(
     let mut faces: Vec<u32> = Vec::new();
     let mut missing_faces = 0;
     let mesh_tris: Vec<[u32; 3]> = surface.triangles.iter().map(|t| t.map(m)).collect();
-    let found = faces_found(&rec.l, &mesh_tris);
+    let found = faces_now(rec, &kept, since, &mesh_tris);
     for (k, f) in mesh_tris.iter().enumerate() {
         if found[k] {
             rec.locks.faces.insert(sorted(*f));
@@ -800,6 +806,33 @@ fn recover_all(
     }
     // Faces skipped because an edge is stuck are covered by that edge's entry.
     Ok((stuck, bad))
+}
+
+/// Which edges (mesh vertex ids) are in the mesh: from the locks `kept` by an
+/// incremental round (exactly the locked entities still present) and a local look-up
+/// for the others; one sweep over the mesh when there are none.
+fn edges_now(rec: &mut Recovery, kept: &Locks, edges: &[(u32, u32)]) -> Vec<bool> {
+    if kept.edges.is_empty() {
+        return rec.l.edges_present(edges);
+    }
+    edges
+        .iter()
+        .map(|&(a, b)| kept.edge(a, b) || rec.has_edge(a, b))
+        .collect()
+}
+
+/// Which triangles (mesh vertex ids) are faces of the mesh, as [`edges_now`]: a face
+/// `kept` is still there if no change touched its vertices since the clock `since`.
+fn faces_now(rec: &mut Recovery, kept: &Locks, since: u32, tris: &[[u32; 3]]) -> Vec<bool> {
+    if kept.faces.is_empty() {
+        return faces_found(&rec.l, tris);
+    }
+    tris.iter()
+        .map(|&f| {
+            (kept.face(f) && !rec.l.stamps.changed_since(&f, since))
+                || rec.has_face(f[0], f[1], f[2])
+        })
+        .collect()
 }
 
 /// Which triangles (mesh vertex ids) are faces of the mesh.
