@@ -67,6 +67,10 @@ enum Command {
         /// Check every adjacency and orientation invariant afterwards.
         #[arg(long)]
         validate: bool,
+        /// Seed of the insertion order and of the recovery order; another seed gives
+        /// another, equally valid, boundary mesh.
+        #[arg(long)]
+        seed: Option<u64>,
     },
     /// The volume mesh of the domain bounded by a closed surface (paper §2-§5).
     Mesh(MeshArgs),
@@ -240,7 +244,8 @@ fn run(cli: Cli) -> Result<ExitCode> {
             output,
             stats,
             validate,
-        } => boundary(&surface, output.as_deref(), stats, validate),
+            seed,
+        } => boundary(&surface, output.as_deref(), stats, validate, seed),
         Command::Generate {
             kind,
             level,
@@ -350,7 +355,13 @@ fn check(path: &Path, json: bool) -> Result<ExitCode> {
     }
 }
 
-fn boundary(path: &Path, output: Option<&Path>, stats: bool, validate: bool) -> Result<ExitCode> {
+fn boundary(
+    path: &Path,
+    output: Option<&Path>,
+    stats: bool,
+    validate: bool,
+    seed: Option<u64>,
+) -> Result<ExitCode> {
     use mesher::boundary::{boundary_mesh, BoundaryError, BoundaryOptions};
     let read = match mesher::io::read_surface(path) {
         Ok(r) => r,
@@ -362,7 +373,11 @@ fn boundary(path: &Path, output: Option<&Path>, stats: bool, validate: bool) -> 
         }
     };
     let t0 = Instant::now();
-    let (bm, report) = match boundary_mesh(&read.surface, &BoundaryOptions::default()) {
+    let mut options = BoundaryOptions::default();
+    if let Some(seed) = seed {
+        options.seed = seed;
+    }
+    let (bm, report) = match boundary_mesh(&read.surface, &options) {
         Ok(r) => r,
         Err(e @ (BoundaryError::Defective { .. } | BoundaryError::VertexOnEntity { .. })) => {
             eprintln!("mesher: refused: {}: {e}", path.display());

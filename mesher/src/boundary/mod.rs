@@ -29,7 +29,9 @@
 //! `domain` (flood fill, regions, volumes), `split` (boundary Steiner points),
 //! `suppress` (taking Steiner points out again).
 
+mod cone;
 mod domain;
+mod fan;
 pub(crate) mod flips;
 mod insert;
 pub(crate) mod local;
@@ -87,6 +89,12 @@ pub struct BoundaryOptions {
     /// Insert a round's Steiner points into the mesh of the previous round by the
     /// constrained kernel (`insert`) instead of rebuilding the mesh from scratch.
     pub incremental: bool,
+    /// Levels of preparatory edge removals (Si's `flipnm` link levels) tried at a
+    /// stuck segment before it gets a Steiner point. Level 1 is always on; 2 takes
+    /// fewer interior Steiner points (part1 1 -> 0, anchor 24 -> 20, turbine 10 -> 6)
+    /// but on some seeds leaves turbine with split edges; then the recovery is run
+    /// again at level 1 and the result with fewer boundary Steiner points kept.
+    pub flip_depth: usize,
 }
 
 impl Default for BoundaryOptions {
@@ -100,6 +108,7 @@ impl Default for BoundaryOptions {
             check_input: true,
             split_rounds: 16,
             incremental: true,
+            flip_depth: 2,
         }
     }
 }
@@ -253,6 +262,9 @@ pub fn boundary_mesh(
     let t0 = Instant::now();
     let first = match boundary_attempt(surface, options) {
         Err(e @ BoundaryError::Unrecovered { .. }) if options.incremental => e,
+        Ok(r) if options.flip_depth > 1 && boundary_steiner(&r.1) > 0 => {
+            return Ok(shallower_if_better(surface, options, r, t0));
+        }
         other => return other,
     };
     let again = BoundaryOptions {
@@ -268,6 +280,33 @@ pub fn boundary_mesh(
         }
         Err(_) => Err(first),
     }
+}
+
+/// Steiner points left on input edges and faces.
+fn boundary_steiner(r: &BoundaryReport) -> usize {
+    r.steiner_on_edges + r.steiner_on_faces
+}
+
+/// `deep` (a recovery with boundary Steiner points) or, when it has fewer of them,
+/// the recovery with one level of preparatory removals.
+fn shallower_if_better(
+    surface: &Surface,
+    options: &BoundaryOptions,
+    deep: (BoundaryMesh, BoundaryReport),
+    t0: Instant,
+) -> (BoundaryMesh, BoundaryReport) {
+    let shallow = BoundaryOptions {
+        flip_depth: 1,
+        check_input: false,
+        ..options.clone()
+    };
+    let mut best = match boundary_attempt(surface, &shallow) {
+        Ok(r) if boundary_steiner(&r.1) < boundary_steiner(&deep.1) => r,
+        _ => deep,
+    };
+    best.1.attempts = 2;
+    best.1.seconds_all_attempts = t0.elapsed().as_secs_f64();
+    best
 }
 
 /// One recovery with the given options.
@@ -710,6 +749,7 @@ fn recover_all(
     let mut stuck_edges = Vec::new();
     // First flips and cones only, then with Steiner points for what is left.
     rec.allow_steiner = false;
+    rec.flip_depth = options.flip_depth;
     for pass in 0..2 * MAX_PASSES {
         if missing.is_empty() {
             break;
@@ -794,6 +834,17 @@ fn recover_all(
             break;
         }
     }
+    // A face's recovery can make a stuck edge as a side effect: that edge is no longer
+    // stuck (splitting it would put a point on the edge of a recovered face, which no
+    // insertion can take). Its faces, skipped above, are found by the check below or
+    // tried again by the next round.
+    stuck.retain(|e| match *e {
+        Entity::Edge(a, b, _) if rec.has_edge(m(a), m(b)) => {
+            lock_edge(rec, m(a), m(b));
+            false
+        }
+        _ => true,
+    });
     stuck.extend(pending.iter().map(|&k| Entity::Face(k)));
     if stuck.is_empty() {
         // Safety net: every input triangle must be a face now.

@@ -6,7 +6,11 @@
 //! chain of tets the segment crosses by at least one. When the 2-3 flip is not valid
 //! (the union of the two tets is not convex), the reflex edge of the face is removed
 //! first, as in Si's `flipnm` (TetGen; "TetGen, a Delaunay-based quality tetrahedral
-//! mesh generator", ACM TOMS 2015), one level deep.
+//! mesh generator", ACM TOMS 2015), one level deep; before a Steiner point, the first
+//! crossings are removed with `flip_depth` levels of such preparation.
+//!
+//! When flips are stuck, a cone from an end point (`cone.rs`), then a Schönhardt fan
+//! with one interior Steiner point (`fan.rs`).
 //!
 //! A missing triangle `abc` whose three edges exist is crossed near each of its edges
 //! by one ring edge of that edge; removing that crossing edge with the triangle `abc`
@@ -25,10 +29,6 @@ use crate::{FastMap as HashMap, FastSet};
 const MAX_MET: usize = 4096;
 /// Largest ring for which an edge removal tries one preparatory removal per ring vertex.
 const MAX_HELP_RING: usize = 10;
-/// Growth steps of a cone region.
-const MAX_GROW: usize = 32;
-/// Largest cone region, in tets.
-const MAX_CONE: usize = 2048;
 
 /// What the segment from `a` towards `b` meets first.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -111,6 +111,9 @@ pub(crate) struct Recovery {
     pub steiner: Vec<u32>,
     /// Whether Steiner points may be inserted (a second phase, after flips alone).
     pub allow_steiner: bool,
+    /// Levels of preparatory removals at a stuck segment before a Steiner point
+    /// ([`super::BoundaryOptions::flip_depth`]).
+    pub flip_depth: usize,
     pub(super) scratch: Vec<u32>,
     star: Vec<u32>,
     /// Entities whose recovery failed (an edge is `[a, b, u32::MAX]`, a triangle its
@@ -126,6 +129,7 @@ impl Recovery {
             flips: FlipCounts::default(),
             steiner: Vec::new(),
             allow_steiner: false,
+            flip_depth: 1,
             scratch: Vec::new(),
             star: Vec::new(),
             failed: HashMap::default(),
@@ -351,6 +355,9 @@ impl Recovery {
         if self.has_edge(a, b) {
             return Ok(());
         }
+        if self.allow_steiner && self.flip_depth > 1 && self.deep_flips(a, b, budget) {
+            return Ok(());
+        }
         // Flips are stuck (or cycle): a cone from an end point, else (when allowed) a
         // Schönhardt fan with a Steiner point.
         let done = [(a, b), (b, a)].iter().any(|&(p, q)| {
@@ -364,218 +371,47 @@ impl Recovery {
         }
     }
 
-    /// The Schönhardt case: every tet the segment `ab` meets has the edge `xy`, a twisted
-    /// fan that no flip untwists. The fan is re-tetrahedralised with the edge `ab` and
-    /// one interior Steiner point `s`: the tet `(x, y, a, b)` takes the two end faces of
-    /// the fan, and the rest of the fan (its other faces and the two faces `abx`, `aby`)
-    /// is the cone from `s`, placed where it sees all of them (a compass search that
-    /// maximises the smallest volume). After Si's Steiner points in Schönhardt
-    /// polyhedra (TetGen, TOMS 2015); checked like every change.
-    pub(crate) fn schonhardt(&mut self, a: u32, b: u32) -> bool {
-        let Some(met) = self.met_tets(a, b) else {
-            return false;
-        };
-        let Some(&first) = met.first() else {
-            return false;
-        };
-        let common: Vec<u32> = self
-            .l
-            .tet(first)
-            .into_iter()
-            .filter(|v| met.iter().all(|&t| self.l.tet(t).contains(v)))
-            .collect();
-        let [x, y] = common[..] else {
-            return false;
-        };
-        if [x, y].contains(&a) || [x, y].contains(&b) {
-            return false;
-        }
-        let t0 = match self.l.orient(x, y, a, b) {
-            Orientation::Positive => [x, y, a, b],
-            Orientation::Negative => [y, x, a, b],
-            Orientation::Zero => return self.planar_fan(x, y, a, b),
-        };
-        // Faces of the rest: the fan's boundary faces other than its two end faces
-        // (those with both x and y), and the faces of t0 opposite x and y, reversed.
-        let mut faces: Vec<[u32; 3]> = Vec::new();
-        for &t in &met {
-            let v = self.l.tet(t);
-            let adj = self.l.adj(t);
-            for i in 0..4 {
-                let u = crate::tetmesh::FaceRef::from_raw(adj[i]).tet().0;
-                let f = FACE_VERTICES[i].map(|k| v[k]);
-                if met.contains(&u) || (f.contains(&x) && f.contains(&y)) {
+    /// Before a Steiner point: the first crossings from either end removed with
+    /// [`Recovery::flip_depth`] levels of preparation, each change kept only when the
+    /// segment meets fewer tets (no cycles).
+    fn deep_flips(&mut self, a: u32, b: u32, budget: usize) -> bool {
+        let depth = self.flip_depth;
+        for _ in 0..budget {
+            let Some(before) = self.met_tets(a, b).map(|m| m.len()) else {
+                return false;
+            };
+            let mut progressed = false;
+            for (from, to) in [(a, b), (b, a)] {
+                let mark = self.l.mark();
+                let changed = match first_crossing(&self.l, from, to, &mut self.star) {
+                    Crossing::Present => return true,
+                    Crossing::Edge(x, y) => self.remove_deep(x, y, Choice::FanFrom(from), depth),
+                    Crossing::Face(t, i) => {
+                        let v = self.l.tet(t);
+                        let f = FACE_VERTICES[i].map(|k| v[k]);
+                        (0..3).any(|k| {
+                            self.remove_deep(f[k], f[(k + 1) % 3], Choice::Best, depth - 1)
+                        })
+                    }
+                    _ => return false,
+                };
+                if !changed {
                     continue;
                 }
-                faces.push(f);
-            }
-        }
-        for fv in &FACE_VERTICES[..2] {
-            // Local vertices 0 and 1 of t0 are x and y; their opposite faces, reversed.
-            let f = fv.map(|k| t0[k]);
-            faces.push([f[0], f[2], f[1]]);
-        }
-        let Some(sp) = self.kernel_point(&faces) else {
-            return false;
-        };
-        let s = self.l.mesh.num_vertices() as u32;
-        self.l.mesh.push_vertex(sp);
-        let mut new = vec![t0];
-        new.extend(faces.iter().map(|f| [f[0], f[1], f[2], s]));
-        if self.l.replace(&met, &new).is_err() {
-            self.l.mesh.pop_vertex();
-            return false;
-        }
-        self.flips.fans += 1;
-        self.steiner.push(s);
-        true
-    }
-
-    /// The flat case of [`Recovery::schonhardt`]: `a`, `b`, `x`, `y` are coplanar and the
-    /// segment `ab` crosses the edge `xy` (a flat quad `a x b y` with the other
-    /// diagonal). The ring of `xy` splits at `a` and `b` into two paths, one on each
-    /// side of the plane; each side is re-tetrahedralised with the triangles `abx` and
-    /// `aby` as its face on the plane: the cone from one of its own ring vertices when
-    /// one sees all its faces, else from an interior Steiner point.
-    fn planar_fan(&mut self, x: u32, y: u32, a: u32, b: u32) -> bool {
-        let Some(ring) = self.l.ring(x, y, &mut self.scratch) else {
-            return false;
-        };
-        let n = ring.len();
-        let (Some(ia), Some(ib)) = (
-            ring.iter().position(|r| r.1 == a),
-            ring.iter().position(|r| r.1 == b),
-        ) else {
-            return false;
-        };
-        let old: Vec<u32> = ring.iter().map(|r| r.0).collect();
-        let mut new: Vec<[u32; 4]> = Vec::new();
-        let mut added = 0;
-        for (from, to) in [(ia, ib), (ib, ia)] {
-            // Ring tets k (between ring[k] and ring[k+1]) from `from` to `to`.
-            let mut tets = Vec::new();
-            let mut k = from;
-            while k != to {
-                tets.push(k);
-                k = (k + 1) % n;
-            }
-            if tets.len() < 2 {
-                self.pop_added(added);
-                return false;
-            }
-            let inner = ring[(from + 1) % n].1;
-            let mut faces: Vec<[u32; 3]> = Vec::new();
-            for &k in &tets {
-                let (p, q) = (ring[k].1, ring[(k + 1) % n].1);
-                // Tet (x, y, p, q) is positive: its faces opposite y and x, seen inside.
-                faces.push([x, p, q]);
-                faces.push([y, q, p]);
-            }
-            for w in [x, y] {
-                let f = if self.l.orient(a, b, w, inner) == Orientation::Positive {
-                    [a, b, w]
-                } else {
-                    [b, a, w]
-                };
-                faces.push(f);
-            }
-            // Candidates: the path's own vertices, then a and b themselves.
-            let apex = tets
-                .iter()
-                .skip(1)
-                .map(|&k| ring[k].1)
-                .chain([a, b])
-                .find(|&w| {
-                    faces
-                        .iter()
-                        .filter(|f| !f.contains(&w))
-                        .all(|f| self.l.orient(f[0], f[1], f[2], w) == Orientation::Positive)
-                });
-            let apex = match apex {
-                Some(w) => w,
-                None => {
-                    let Some(sp) = self.kernel_point(&faces) else {
-                        self.pop_added(added);
-                        return false;
-                    };
-                    added += 1;
-                    self.l.mesh.push_vertex(sp).0
+                if self.has_edge(a, b) {
+                    return true;
                 }
-            };
-            new.extend(
-                faces
-                    .iter()
-                    .filter(|f| !f.contains(&apex))
-                    .map(|f| [f[0], f[1], f[2], apex]),
-            );
-        }
-        if self.l.replace(&old, &new).is_err() {
-            self.pop_added(added);
-            return false;
-        }
-        let nv = self.l.mesh.num_vertices() as u32;
-        self.steiner.extend(nv - added as u32..nv);
-        self.flips.fans += 1;
-        true
-    }
-
-    fn pop_added(&mut self, added: usize) {
-        for _ in 0..added {
-            self.l.mesh.pop_vertex();
-        }
-    }
-
-    /// A point strictly on the positive side of every face (inexact search, exact
-    /// check), or `None`: a compass search maximising the smallest scaled volume.
-    pub(super) fn kernel_point(&self, faces: &[[u32; 3]]) -> Option<Point> {
-        let pts: Vec<[Point; 3]> = faces.iter().map(|f| f.map(|v| self.l.p(v))).collect();
-        let n = (pts.len() * 3) as f64;
-        let mut c = pts.iter().flatten().copied().sum::<Point>() / n;
-        let size = pts
-            .iter()
-            .flatten()
-            .map(|p| (*p - c).length())
-            .fold(0.0, f64::max);
-        if size.is_nan() || size <= 0.0 {
-            return None;
-        }
-        let score = |q: Point| {
-            pts.iter()
-                .map(|[a, b, d]| (*b - *a).cross(*d - *a).dot(q - *a))
-                .fold(f64::INFINITY, f64::min)
-        };
-        let mut best = score(c);
-        let mut step = size * 0.25;
-        let dirs = [
-            Point::X,
-            Point::NEG_X,
-            Point::Y,
-            Point::NEG_Y,
-            Point::Z,
-            Point::NEG_Z,
-        ];
-        for _ in 0..400 {
-            let mut moved = false;
-            for d in dirs {
-                let q = c + d * step;
-                let v = score(q);
-                if v > best {
-                    best = v;
-                    c = q;
-                    moved = true;
-                }
-            }
-            if !moved {
-                step *= 0.5;
-                if step < size * 1e-6 {
+                if self.met_tets(a, b).is_some_and(|m| m.len() < before) {
+                    progressed = true;
                     break;
                 }
+                self.l.undo(mark);
+            }
+            if !progressed {
+                return false;
             }
         }
-        let ok = pts.iter().all(|[a, b, d]| {
-            crate::geom::predicates::orient3d(*a, *b, *d, c) == Orientation::Positive
-        });
-        ok.then_some(c)
+        self.has_edge(a, b)
     }
 
     /// One flip anywhere along `ab` that lowers the number of tets the segment meets.
@@ -694,8 +530,19 @@ impl Recovery {
     /// vertex of its ring (which changes the ring), undone when `xy` still cannot go:
     /// one level of Si's `flipnm`.
     fn remove(&mut self, x: u32, y: u32, choice: Choice) -> bool {
+        self.remove_deep(x, y, choice, 1)
+    }
+
+    /// [`Recovery::remove`] with `depth` levels of preparatory removals (Si's `flipnm`
+    /// link levels): each level removes one edge from an end of the edge to a vertex
+    /// of its ring, itself with one level fewer, and undoes it when the edge still
+    /// cannot go.
+    fn remove_deep(&mut self, x: u32, y: u32, choice: Choice, depth: usize) -> bool {
         if self.remove_once(x, y, choice) {
             return true;
+        }
+        if depth == 0 {
+            return false;
         }
         let Some(ring) = self.l.ring(x, y, &mut self.scratch) else {
             return false;
@@ -709,7 +556,7 @@ impl Recovery {
                     continue;
                 }
                 let mark = self.l.mark();
-                if !self.remove_once(z, p, Choice::Best) {
+                if !self.remove_deep(z, p, Choice::Best, depth - 1) {
                     continue;
                 }
                 if self.remove_once(x, y, choice) {
@@ -890,205 +737,6 @@ impl Recovery {
             }
         }
         Some((edges, tets))
-    }
-
-    /// Re-tetrahedralises a region as the cone from vertex `apex`: the region starts as
-    /// `seed` and grows across every boundary face that `apex` does not see, until all
-    /// are seen (then every boundary face `f` gives the tet `(f, apex)`) or a budget,
-    /// the hull or a constrained face stops it. Refused if a vertex would be lost, a
-    /// constrained edge or face would disappear, or a vertex of `keep` would not be on
-    /// the region's boundary. When Steiner points are allowed (the last resort before
-    /// one), the region may also start with the whole star of `apex`: that rarely
-    /// succeeds where the seed alone failed (once on the corpus), and costs a fifth of
-    /// the recovery time on cheese if tried at every stuck segment.
-    fn cone(&mut self, apex: u32, seed: &[u32], keep: &[u32]) -> bool {
-        self.cone_region(apex, seed, keep, false)
-            || (self.allow_steiner && self.cone_region(apex, seed, keep, true))
-    }
-
-    /// [`Recovery::cone`] from `seed` alone (faces at `apex` stay on the boundary) or
-    /// from `seed` plus the whole star of `apex`.
-    fn cone_region(&mut self, apex: u32, seed: &[u32], keep: &[u32], with_star: bool) -> bool {
-        let Some((region, inside)) = self.grow_cone(apex, seed, with_star) else {
-            return false;
-        };
-        // The region's boundary faces: those away from the apex become the new tets'
-        // bases; those at the apex stay (as faces of the tets outside).
-        let mut new: Vec<[u32; 4]> = Vec::new();
-        let mut at_apex: Vec<[u32; 3]> = Vec::new();
-        for &t in &region {
-            let v = self.l.tet(t);
-            let adj = self.l.adj(t);
-            for i in 0..4 {
-                let u = crate::tetmesh::FaceRef::from_raw(adj[i]).tet().0;
-                if inside.contains(&u) {
-                    continue;
-                }
-                let f = FACE_VERTICES[i].map(|k| v[k]);
-                if f.contains(&apex) {
-                    at_apex.push(f);
-                } else {
-                    new.push([f[0], f[1], f[2], apex]);
-                }
-            }
-        }
-        if new.is_empty() {
-            return false;
-        }
-        // Every vertex of the region must stay: the apex or on a boundary face.
-        let mut on_boundary: FastSet<u32> =
-            new.iter().flat_map(|t| t[..3].iter().copied()).collect();
-        on_boundary.insert(apex);
-        on_boundary.extend(at_apex.iter().flatten().copied());
-        if keep.iter().any(|k| !on_boundary.contains(k))
-            || region
-                .iter()
-                .any(|&t| self.l.tet(t).iter().any(|x| !on_boundary.contains(x)))
-            || !self.cone_keeps_locks(&region, &new, &at_apex)
-        {
-            return false;
-        }
-        let locked = if cfg!(debug_assertions) {
-            self.locks_in(&region)
-        } else {
-            (Vec::new(), Vec::new())
-        };
-        if self.l.replace(&region, &new).is_err() {
-            return false;
-        }
-        debug_assert!(
-            locked.0.iter().all(|&(x, y)| self.has_edge(x, y))
-                && locked.1.iter().all(|f| self.has_face(f[0], f[1], f[2])),
-            "a cone lost a constrained entity that cone_keeps_locks kept"
-        );
-        self.flips.cones += 1;
-        true
-    }
-
-    /// The constrained edges and faces of the tets `region` (for a debug check).
-    fn locks_in(&self, region: &[u32]) -> (Vec<(u32, u32)>, Vec<[u32; 3]>) {
-        let mut edges = Vec::new();
-        let mut faces = Vec::new();
-        for &t in region {
-            let v = self.l.tet(t);
-            for (i, j) in [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)] {
-                if self.locks.edge(v[i], v[j]) {
-                    edges.push((v[i], v[j]));
-                }
-            }
-            faces.extend(
-                FACE_VERTICES
-                    .iter()
-                    .map(|f| f.map(|k| v[k]))
-                    .filter(|&f| self.locks.face(f)),
-            );
-        }
-        (edges, faces)
-    }
-
-    /// The region of [`Recovery::cone_region`] and its set of tets: `seed` (plus the
-    /// star of `apex`), grown across every boundary face that `apex` does not see.
-    /// `None` when a budget, the hull or a constrained face stops the growth.
-    fn grow_cone(
-        &mut self,
-        apex: u32,
-        seed: &[u32],
-        with_star: bool,
-    ) -> Option<(Vec<u32>, FastSet<u32>)> {
-        let mut region: Vec<u32> = Vec::new();
-        if with_star {
-            self.l.star(apex, &mut region);
-        }
-        let mut inside: FastSet<u32> = region.iter().copied().collect();
-        for &t in seed {
-            if inside.insert(t) {
-                region.push(t);
-            }
-        }
-        // Grow: only the faces of the tets added last need a look (a face seen from the
-        // apex stays seen; it stops being a boundary face only if its far side joins).
-        let mut frontier = region.clone();
-        for _ in 0..MAX_GROW {
-            if region.len() > MAX_CONE || frontier.iter().any(|&t| self.l.is_ghost(t)) {
-                return None;
-            }
-            let mut grow = Vec::new();
-            for &t in &frontier {
-                let v = self.l.tet(t);
-                let adj = self.l.adj(t);
-                for i in 0..4 {
-                    let u = crate::tetmesh::FaceRef::from_raw(adj[i]).tet().0;
-                    if inside.contains(&u) {
-                        continue;
-                    }
-                    let f = FACE_VERTICES[i].map(|k| v[k]);
-                    if f.contains(&apex)
-                        || self.l.orient(f[0], f[1], f[2], apex) == Orientation::Positive
-                    {
-                        continue;
-                    }
-                    if self.locks.face(f) || self.l.is_ghost(u) {
-                        return None;
-                    }
-                    grow.push(u);
-                }
-            }
-            if grow.is_empty() {
-                return (region.len() <= MAX_CONE).then_some((region, inside));
-            }
-            frontier.clear();
-            for u in grow {
-                if inside.insert(u) {
-                    region.push(u);
-                    frontier.push(u);
-                }
-            }
-        }
-        (region.len() <= MAX_CONE).then_some((region, inside))
-    }
-
-    /// True when every constrained edge and face of the `region` survives its
-    /// replacement by the tets `new` (the region's boundary faces `at_apex` stay as
-    /// faces of the tets outside). Decided before the change: an edge of the region
-    /// survives iff it is an edge of a boundary face or of a new tet, a face iff it is
-    /// a boundary face or a face of a new tet (the tets outside keep theirs).
-    fn cone_keeps_locks(&self, region: &[u32], new: &[[u32; 4]], at_apex: &[[u32; 3]]) -> bool {
-        let mut edges: FastSet<(u32, u32)> = FastSet::default();
-        let mut faces: FastSet<[u32; 3]> = FastSet::default();
-        let mut add_face = |f: [u32; 3], edges: &mut FastSet<(u32, u32)>| {
-            for (i, j) in [(0, 1), (1, 2), (2, 0)] {
-                edges.insert((f[i].min(f[j]), f[i].max(f[j])));
-            }
-            let mut s = f;
-            s.sort_unstable();
-            faces.insert(s);
-        };
-        for t in new {
-            let apex = t[3];
-            add_face([t[0], t[1], t[2]], &mut edges);
-            for (i, j) in [(0, 1), (1, 2), (2, 0)] {
-                add_face([t[i], t[j], apex], &mut edges);
-            }
-        }
-        for &f in at_apex {
-            add_face(f, &mut edges);
-        }
-        region.iter().all(|&t| {
-            let v = self.l.tet(t);
-            let edges_kept =
-                [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)]
-                    .iter()
-                    .all(|&(i, j)| {
-                        let (x, y) = (v[i].min(v[j]), v[i].max(v[j]));
-                        !self.locks.edge(x, y) || edges.contains(&(x, y))
-                    });
-            edges_kept
-                && FACE_VERTICES.iter().all(|f| {
-                    let mut f = f.map(|k| v[k]);
-                    f.sort_unstable();
-                    !self.locks.faces.contains(&f) || faces.contains(&f)
-                })
-        })
     }
 
     /// True when edge `xy` crosses the open triangle `t` at one interior point.
