@@ -13,6 +13,9 @@ use crate::FastSet;
 const MAX_GROW: usize = 32;
 /// Largest cone region, in tets.
 const MAX_CONE: usize = 2048;
+/// Region size at which a growing cone first checks for a buried vertex (then at
+/// every doubling).
+const FIRST_BURIED_CHECK: usize = 32;
 
 impl Recovery {
     /// Re-tetrahedralises a region as the cone from vertex `apex`: the region starts as
@@ -131,6 +134,7 @@ impl Recovery {
         // Grow: only the faces of the tets added last need a look (a face seen from the
         // apex stays seen; it stops being a boundary face only if its far side joins).
         let mut frontier = region.clone();
+        let mut check_at = FIRST_BURIED_CHECK;
         for _ in 0..MAX_GROW {
             if region.len() > MAX_CONE || frontier.iter().any(|&t| self.l.is_ghost(t)) {
                 return None;
@@ -166,8 +170,36 @@ impl Recovery {
                     frontier.push(u);
                 }
             }
+            // A vertex inside the region stays inside as it grows: the cone would
+            // lose it, so stop now (checked at doubling sizes: linear in all).
+            if region.len() >= check_at {
+                check_at *= 2;
+                if self.buries_a_vertex(apex, &region, &inside) {
+                    return None;
+                }
+            }
         }
         (region.len() <= MAX_CONE).then_some((region, inside))
+    }
+
+    /// True when a vertex of `region` other than `apex` is on none of its boundary
+    /// faces (it is inside the region).
+    fn buries_a_vertex(&self, apex: u32, region: &[u32], inside: &FastSet<u32>) -> bool {
+        let mut on_boundary: FastSet<u32> = FastSet::default();
+        on_boundary.insert(apex);
+        for &t in region {
+            let v = self.l.tet(t);
+            let adj = self.l.adj(t);
+            for i in 0..4 {
+                let u = crate::tetmesh::FaceRef::from_raw(adj[i]).tet().0;
+                if !inside.contains(&u) {
+                    on_boundary.extend(FACE_VERTICES[i].map(|k| v[k]));
+                }
+            }
+        }
+        region
+            .iter()
+            .any(|&t| self.l.tet(t).iter().any(|x| !on_boundary.contains(x)))
     }
 
     /// True when every constrained edge and face of the `region` survives its

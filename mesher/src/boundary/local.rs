@@ -46,6 +46,17 @@ pub(crate) struct Local {
     visit: std::cell::Cell<u32>,
     /// When the tets at each vertex last changed.
     pub stamps: Stamps,
+    /// Scratch space of [`Local::replace`].
+    pairing: Pairing,
+}
+
+/// Scratch lists of [`Local::replace`]: the old region's outer faces (key, outside
+/// neighbour, parity), the new tets' faces (key, tet, face, parity), and the links.
+#[derive(Debug, Default)]
+struct Pairing {
+    outer: Vec<([u32; 3], FaceRef, bool)>,
+    faces: Vec<([u32; 3], u32, u8, bool)>,
+    links: Vec<(usize, usize, Link)>,
 }
 
 /// One journalled change: the tets it created, the tets it replaced, and the stamps it
@@ -96,6 +107,7 @@ impl Local {
             seen: Default::default(),
             visit: Default::default(),
             stamps: Stamps::default(),
+            pairing: Pairing::default(),
         };
         l.rebuild_v2t();
         l
@@ -156,16 +168,7 @@ impl Local {
             return;
         }
         debug_assert!(self.tet(start).contains(&v), "stale v2t for {v}");
-        let mut seen = self.seen.borrow_mut();
-        if seen.len() < self.mesh.num_slots() {
-            seen.resize(self.mesh.num_slots() * 5 / 4 + 64, 0);
-        }
-        let mut visit = self.visit.get().wrapping_add(1);
-        if visit == 0 {
-            seen.iter_mut().for_each(|s| *s = 0);
-            visit = 1;
-        }
-        self.visit.set(visit);
+        let (mut seen, visit) = self.new_visit();
         seen[start as usize] = visit;
         out.push(start);
         let mut k = 0;
@@ -242,6 +245,148 @@ impl Local {
             }
         }
         Walk::Unsure
+    }
+
+    /// A live finite tet at `a` whose closed cone from `a` (over its face opposite `a`)
+    /// holds `b`: a walk in the star of `a` that crosses a face at `a` with `b`
+    /// strictly beyond its plane. `None` when the walk meets the hull or does not
+    /// settle (callers then scan the whole star).
+    pub fn cone_walk(&self, a: u32, b: u32) -> Option<u32> {
+        let &start = self.v2t.get(a as usize)?;
+        if start == u32::MAX || b == GHOST {
+            return None;
+        }
+        let mut t = start;
+        let mut prev = u32::MAX;
+        for step in 0..WALK_STEPS {
+            if self.is_ghost(t) {
+                return None;
+            }
+            let v = self.tet(t);
+            let ia = v.iter().position(|&x| x == a)?;
+            let adj = self.adj(t);
+            // The face at `a` opposite local vertex i (i != ia) has `b` strictly beyond
+            // its plane iff orient(face, b) is negative (the tet is positive).
+            let next = (0..4).map(|k| (k + step) % 4).find(|&i| {
+                i != ia && FaceRef::from_raw(adj[i]).tet().0 != prev && {
+                    let f = FACE_VERTICES[i].map(|k| v[k]);
+                    self.orient(f[0], f[1], f[2], b) == Orientation::Negative
+                }
+            });
+            match next {
+                Some(i) => {
+                    prev = t;
+                    t = FaceRef::from_raw(adj[i]).tet().0;
+                }
+                None => return Some(t),
+            }
+        }
+        None
+    }
+
+    /// The vertices `[x, y, z]` of tet `t` other than `a` (in the order of
+    /// `FACE_VERTICES[ia]`) and the signs of `orient(a, x, y, b)`, `orient(a, y, z, b)`,
+    /// `orient(a, z, x, b)`: `b` is in the closed cone of `t` from `a` iff none is
+    /// positive. `None` when `t` is a ghost or lacks `a`.
+    pub fn cone_signs(&self, t: u32, a: u32, b: u32) -> Option<([u32; 3], [Orientation; 3])> {
+        if self.is_ghost(t) {
+            return None;
+        }
+        let v = self.tet(t);
+        let ia = v.iter().position(|&x| x == a)?;
+        let [x, y, z] = FACE_VERTICES[ia].map(|k| v[k]);
+        let s = [
+            self.orient(a, x, y, b),
+            self.orient(a, y, z, b),
+            self.orient(a, z, x, b),
+        ];
+        Some(([x, y, z], s))
+    }
+
+    /// The tets the open segment `ab` meets (closed tets) into `out`: first the tets
+    /// at `a` whose closed cone holds `b`, then those found by a search over the faces
+    /// the line through `a` and `b` passes through. False past `max` tets.
+    pub fn met_tets(
+        &self,
+        a: u32,
+        b: u32,
+        max: usize,
+        out: &mut Vec<u32>,
+        star: &mut Vec<u32>,
+    ) -> bool {
+        out.clear();
+        // When the walk ends in a tet whose open cone holds `b`, that tet is the only
+        // one at `a` that the segment meets; else (`b` on a face plane at `a`, or `ab`
+        // an edge) the tets whose closed cone holds `b`, in the star's order.
+        let inside = self.cone_walk(a, b).filter(|&t| {
+            !self.tet(t).contains(&b)
+                && self
+                    .cone_signs(t, a, b)
+                    .is_some_and(|(_, s)| s.iter().all(|&o| o == Orientation::Negative))
+        });
+        if let Some(t) = inside {
+            out.push(t);
+        } else {
+            self.star(a, star);
+            out.extend(star.iter().copied().filter(|&t| {
+                self.cone_signs(t, a, b)
+                    .is_some_and(|(_, s)| !s.contains(&Orientation::Positive))
+            }));
+        }
+        let (mut seen, visit) = self.new_visit();
+        for &t in out.iter() {
+            seen[t as usize] = visit;
+        }
+        let mut k = 0;
+        while k < out.len() {
+            if out.len() > max {
+                return false;
+            }
+            let t = out[k];
+            k += 1;
+            let v = self.tet(t);
+            if v.contains(&b) {
+                continue;
+            }
+            let adj = self.adj(t);
+            for i in 0..4 {
+                let f = FACE_VERTICES[i].map(|j| v[j]);
+                if f.contains(&a) {
+                    continue;
+                }
+                let u = FaceRef::from_raw(adj[i]).tet().0;
+                if self.is_ghost(u) || seen[u as usize] == visit {
+                    continue;
+                }
+                let s = [
+                    self.orient(a, b, f[0], f[1]),
+                    self.orient(a, b, f[1], f[2]),
+                    self.orient(a, b, f[2], f[0]),
+                ];
+                if s.contains(&Orientation::Positive) && s.contains(&Orientation::Negative) {
+                    continue;
+                }
+                seen[u as usize] = visit;
+                out.push(u);
+            }
+        }
+        true
+    }
+
+    /// Starts a new visit of the tets: the marks, sized for every tet slot, and the
+    /// visit number (a tet is seen in this visit iff its mark equals it).
+    fn new_visit(&self) -> (std::cell::RefMut<'_, Vec<u32>>, u32) {
+        let mut seen = self.seen.borrow_mut();
+        if seen.len() < self.mesh.num_slots() {
+            seen.resize(self.mesh.num_slots() * 5 / 4 + 64, 0);
+        }
+        let mut visit = self.visit.get().wrapping_add(1);
+        if visit == 0 {
+            seen.iter_mut().for_each(|s| *s = 0);
+            visit = 1;
+        }
+        self.visit.set(visit);
+        (seen, visit)
     }
 
     /// The ring of edge `ab`: tets `(a, b, p_i, p_{i+1})`, each positively oriented in that
@@ -384,50 +529,73 @@ impl Local {
                 return Err(Refused::NotPositive);
             }
         }
-        // Outer faces of the old region, keyed by sorted vertices; the value is the
-        // outside neighbour and the orientation as listed by the inner (old) tet.
-        let mut outer: HashMap<[u32; 3], (FaceRef, bool, bool)> = HashMap::default();
+        let mut buf = std::mem::take(&mut self.pairing);
+        let r = self.pair_faces(old, new, &mut buf);
+        let r = r.and_then(|()| self.commit(old, new, &buf.links));
+        self.pairing = buf;
+        r
+    }
+
+    /// The links of [`Local::replace`] into `buf.links`: each face of a new tet is
+    /// either an outer face of the old region, listed with the same orientation, or
+    /// shared by exactly two new tets with opposite orientations; every outer face is
+    /// used once. Sorted lists (no hashing: regions are small, and large ones sort fast).
+    fn pair_faces(&self, old: &[u32], new: &[[u32; 4]], buf: &mut Pairing) -> Result<(), Refused> {
+        buf.outer.clear();
+        buf.faces.clear();
+        buf.links.clear();
+        // Outer faces of the old region, keyed by sorted vertices, with the outside
+        // neighbour and the orientation as listed by the inner (old) tet.
         for &t in old {
             let v = self.tet(t);
             let adj = self.adj(t);
             for i in 0..4 {
                 let nb = FaceRef::from_raw(adj[i]);
-                if old.contains(&nb.tet().0) {
-                    continue;
-                }
-                let f = FACE_VERTICES[i].map(|k| v[k]);
-                let (key, even) = face_key(f);
-                if outer.insert(key, (nb, even, false)).is_some() {
-                    return Err(Refused::Mismatch);
+                if !old.contains(&nb.tet().0) {
+                    let (key, even) = face_key(FACE_VERTICES[i].map(|k| v[k]));
+                    buf.outer.push((key, nb, even));
                 }
             }
         }
-        // Inner faces of the new set: must pair with opposite orientation.
-        let mut inner: HashMap<[u32; 3], (usize, usize, bool)> = HashMap::default();
-        let mut links: Vec<(usize, usize, Link)> = Vec::with_capacity(new.len() * 4);
+        buf.outer.sort_unstable_by_key(|o| o.0);
+        if buf.outer.windows(2).any(|w| w[0].0 == w[1].0) {
+            return Err(Refused::Mismatch);
+        }
         for (k, t) in new.iter().enumerate() {
             for (i, fv) in FACE_VERTICES.iter().enumerate() {
                 let (key, even) = face_key(fv.map(|j| t[j]));
-                if let Some(o) = outer.get_mut(&key) {
-                    if o.1 != even || o.2 {
-                        return Err(Refused::Mismatch);
-                    }
-                    o.2 = true;
-                    links.push((k, i, Link::Outer(o.0)));
-                } else if let Some((k2, i2, even2)) = inner.remove(&key) {
-                    if even2 == even {
-                        return Err(Refused::Mismatch);
-                    }
-                    links.push((k, i, Link::Inner(k2, i2)));
-                } else {
-                    inner.insert(key, (k, i, even));
-                }
+                buf.faces.push((key, k as u32, i as u8, even));
             }
         }
-        if !inner.is_empty() || outer.values().any(|o| !o.2) {
+        buf.faces.sort_unstable_by_key(|f| f.0);
+        let faces = &buf.faces;
+        let (mut j, mut used, mut n) = (0, 0, 0);
+        while n < faces.len() {
+            let (key, k, i, even) = faces[n];
+            let twin = faces.get(n + 1).filter(|f| f.0 == key);
+            while j < buf.outer.len() && buf.outer[j].0 < key {
+                j += 1;
+            }
+            match (buf.outer.get(j).filter(|o| o.0 == key), twin) {
+                (Some(o), None) if o.2 == even => {
+                    buf.links.push((k as usize, i as usize, Link::Outer(o.1)));
+                    used += 1;
+                    n += 1;
+                }
+                (None, Some(&(_, k2, i2, even2)))
+                    if even2 != even && faces.get(n + 2).is_none_or(|f| f.0 != key) =>
+                {
+                    let link = Link::Inner(k2 as usize, i2 as usize);
+                    buf.links.push((k as usize, i as usize, link));
+                    n += 2;
+                }
+                _ => return Err(Refused::Mismatch),
+            }
+        }
+        if used != buf.outer.len() {
             return Err(Refused::Mismatch);
         }
-        self.commit(old, new, &links)
+        Ok(())
     }
 
     /// Starts recording changes so that [`Local::undo`] can revert them; returns the
@@ -633,5 +801,19 @@ mod tests {
         );
         l.mesh.validate(false).unwrap();
         assert_eq!(l.mesh.num_finite_tets(), 2);
+    }
+
+    #[test]
+    fn a_face_listed_more_than_twice_is_refused() {
+        let mut l = two_tets();
+        let old: Vec<u32> = l.mesh.finite_tets().map(|t| t.0).collect();
+        // The 2-3 flip with its first tet twice: its faces are then listed two or
+        // three times, never as one pair of opposite orientations.
+        let t = [[0, 1, 4, 3], [1, 2, 4, 3], [2, 0, 4, 3]];
+        let doubled = [t[0], t[1], t[2], t[0]];
+        assert_eq!(l.replace(&old, &doubled), Err(Refused::Mismatch));
+        l.mesh.validate(false).unwrap();
+        assert_eq!(l.replace(&old, &t), Ok(()));
+        l.mesh.validate(false).unwrap();
     }
 }

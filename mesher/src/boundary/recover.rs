@@ -56,42 +56,49 @@ pub(crate) enum Stuck {
 
 /// The first simplex crossed by the segment from `a` to `b`.
 pub(crate) fn first_crossing(l: &Local, a: u32, b: u32, star: &mut Vec<u32>) -> Crossing {
-    l.star(a, star);
-    for &t in star.iter() {
-        if l.is_ghost(t) {
-            continue;
+    // A walk in the star finds the tet at once. The whole star when the walk fails,
+    // and when the segment leaves through an edge or a vertex: several tets hold it
+    // then, and the first in the star's order names the edge's direction, which the
+    // recovery's later choices follow (a change there failed turbine's planar cap).
+    if let Some(t) = l.cone_walk(a, b) {
+        if let Some(c @ (Crossing::Present | Crossing::Face(..))) = crossing_at(l, t, a, b) {
+            return c;
         }
-        let v = l.tet(t);
-        if v.contains(&b) {
-            return Crossing::Present;
-        }
-        let Some(ia) = (0..4).find(|&i| v[i] == a) else {
-            continue;
-        };
-        let [x, y, z] = FACE_VERTICES[ia].map(|k| v[k]);
-        // With a on the positive side of (x, y, z), the direction of b is inside the
-        // cone at a over the face iff it is on the negative side of the three planes.
-        let s = [
-            l.orient(a, x, y, b),
-            l.orient(a, y, z, b),
-            l.orient(a, z, x, b),
-        ];
-        if s.contains(&Orientation::Positive) {
-            continue;
-        }
-        let zero = s.map(|o| o == Orientation::Zero);
-        return match zero {
-            [false, false, false] => Crossing::Face(t, ia),
-            [true, false, false] => Crossing::Edge(x, y),
-            [false, true, false] => Crossing::Edge(y, z),
-            [false, false, true] => Crossing::Edge(z, x),
-            [true, true, false] => Crossing::Vertex(y),
-            [false, true, true] => Crossing::Vertex(z),
-            [true, false, true] => Crossing::Vertex(x),
-            [true, true, true] => Crossing::Lost,
-        };
     }
-    Crossing::Lost
+    l.star(a, star);
+    star.iter()
+        .find_map(|&t| crossing_at(l, t, a, b))
+        .unwrap_or(Crossing::Lost)
+}
+
+/// The crossing of `ab` at tet `t` of the star of `a`: `Present` if `t` has `b`, else
+/// the simplex of `t` opposite `a` that the segment meets when `b` is in the closed cone
+/// of `t` from `a`; `None` otherwise (and for ghosts).
+fn crossing_at(l: &Local, t: u32, a: u32, b: u32) -> Option<Crossing> {
+    if l.is_ghost(t) {
+        return None;
+    }
+    if l.tet(t).contains(&b) {
+        return Some(Crossing::Present);
+    }
+    // With a on the positive side of (x, y, z), the direction of b is inside the cone
+    // at a over the face iff it is on the negative side of the three planes.
+    let ([x, y, z], s) = l.cone_signs(t, a, b)?;
+    if s.contains(&Orientation::Positive) {
+        return None;
+    }
+    let ia = l.tet(t).iter().position(|&v| v == a)?;
+    let zero = s.map(|o| o == Orientation::Zero);
+    Some(match zero {
+        [false, false, false] => Crossing::Face(t, ia),
+        [true, false, false] => Crossing::Edge(x, y),
+        [false, true, false] => Crossing::Edge(y, z),
+        [false, false, true] => Crossing::Edge(z, x),
+        [true, true, false] => Crossing::Vertex(y),
+        [false, true, true] => Crossing::Vertex(z),
+        [true, false, true] => Crossing::Vertex(x),
+        [true, true, true] => Crossing::Lost,
+    })
 }
 
 /// A failed recovery: the clock then, whether Steiner points were allowed, and the
@@ -200,6 +207,7 @@ impl Recovery {
                     (Some(tt), segment_plane(pa, pb, fv))
                 }
                 Crossing::Edge(x, y) => {
+                    self.l.star(f, &mut self.star);
                     let tt = self.star.iter().copied().find(|&tt| {
                         let v = self.l.tet(tt);
                         !self.l.is_ghost(tt) && v.contains(&f) && v.contains(&x) && v.contains(&y)
@@ -468,62 +476,10 @@ impl Recovery {
     /// tets at `a` over the faces the line through `a` and `b` passes through; `None`
     /// past [`MAX_MET`] tets.
     pub(crate) fn met_tets(&mut self, a: u32, b: u32) -> Option<Vec<u32>> {
-        let l = &self.l;
-        l.star(a, &mut self.star);
-        let mut out: Vec<u32> = Vec::new();
-        for &t in &self.star {
-            if l.is_ghost(t) {
-                continue;
-            }
-            let v = l.tet(t);
-            let Some(ia) = (0..4).find(|&i| v[i] == a) else {
-                continue;
-            };
-            let [x, y, z] = FACE_VERTICES[ia].map(|k| v[k]);
-            let s = [
-                l.orient(a, x, y, b),
-                l.orient(a, y, z, b),
-                l.orient(a, z, x, b),
-            ];
-            if !s.contains(&Orientation::Positive) {
-                out.push(t);
-            }
-        }
-        let mut seen: FastSet<u32> = out.iter().copied().collect();
-        let mut k = 0;
-        while k < out.len() {
-            if out.len() > MAX_MET {
-                return None;
-            }
-            let t = out[k];
-            k += 1;
-            let v = l.tet(t);
-            if v.contains(&b) {
-                continue;
-            }
-            let adj = l.adj(t);
-            for i in 0..4 {
-                let f = FACE_VERTICES[i].map(|j| v[j]);
-                if f.contains(&a) {
-                    continue;
-                }
-                let u = crate::tetmesh::FaceRef::from_raw(adj[i]).tet().0;
-                if l.is_ghost(u) || seen.contains(&u) {
-                    continue;
-                }
-                let s = [
-                    l.orient(a, b, f[0], f[1]),
-                    l.orient(a, b, f[1], f[2]),
-                    l.orient(a, b, f[2], f[0]),
-                ];
-                if s.contains(&Orientation::Positive) && s.contains(&Orientation::Negative) {
-                    continue;
-                }
-                seen.insert(u);
-                out.push(u);
-            }
-        }
-        Some(out)
+        let mut out = Vec::new();
+        self.l
+            .met_tets(a, b, MAX_MET, &mut out, &mut self.star)
+            .then_some(out)
     }
 
     /// Removes edge `xy`; if that fails, first removes one edge from `x` or `y` to a

@@ -189,3 +189,44 @@ fn a_long_chain_of_changes_is_undone_exactly_and_leaves_no_stamp() {
     let all: Vec<u32> = (0..rec.l.mesh.num_vertices() as u32).collect();
     assert!(!rec.l.stamps.changed_since(&all, clock));
 }
+
+/// The walks of `first_crossing` and `met_tets` agree with a scan of the whole star,
+/// on meshes with many degenerate (coplanar, cospherical) configurations.
+#[test]
+fn walks_in_the_star_agree_with_the_whole_star() {
+    use crate::geom::predicates::Orientation;
+    for s in [cube(3), icosphere(1), torus(12, 6, 2.0, 0.5)] {
+        let (mesh, sv, _) = delaunay(&s, &[], &BoundaryOptions::default()).unwrap();
+        let l = Local::new(mesh);
+        let (mut star, mut out) = (Vec::new(), Vec::new());
+        let n = sv.len();
+        for i in 0..n {
+            for j in (0..n).step_by(3) {
+                let (a, b) = (sv[i].0, sv[j].0);
+                if a == b {
+                    continue;
+                }
+                // Reference: the tets of the star whose closed cone holds b, in the
+                // star's order, and the crossing at the first of them.
+                l.star(a, &mut star);
+                let at_a: Vec<u32> = star
+                    .iter()
+                    .copied()
+                    .filter(|&t| {
+                        l.cone_signs(t, a, b)
+                            .is_some_and(|(_, s)| !s.contains(&Orientation::Positive))
+                    })
+                    .collect();
+                assert!(l.met_tets(a, b, 1 << 20, &mut out, &mut star));
+                assert_eq!(out[..at_a.len()], at_a[..], "met_tets {a}-{b}");
+                let c = recover::first_crossing(&l, a, b, &mut star);
+                let present = at_a.iter().any(|&t| l.tet(t).contains(&b));
+                match c {
+                    recover::Crossing::Present => assert!(present, "{a}-{b}"),
+                    recover::Crossing::Face(t, _) => assert_eq!(at_a, vec![t], "{a}-{b}"),
+                    _ => assert!(!present && at_a.len() > 1, "{a}-{b}: {c:?}"),
+                }
+            }
+        }
+    }
+}
