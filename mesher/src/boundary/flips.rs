@@ -108,8 +108,16 @@ pub(crate) fn remove_edge(
     if ring.len() > MAX_RING || ring.len() < 3 {
         return Err(Refused::Mismatch);
     }
-    let poly: Vec<u32> = ring.iter().map(|r| r.1).collect();
-    let pts: Vec<Point> = poly.iter().map(|&v| l.p(v)).collect();
+    let len = ring.len();
+    let mut poly = [0u32; MAX_RING];
+    let mut pts = [Point::ZERO; MAX_RING];
+    for (k, r) in ring.iter().enumerate() {
+        poly[k] = r.1;
+        pts[k] = l.p(r.1);
+    }
+    let poly = &poly[..len];
+    let all: [usize; MAX_RING] = std::array::from_fn(|k| k);
+    let all = &all[..len];
     let (px, py) = (l.p(x), l.p(y));
     // Ring is counter-clockwise seen from y: tets [pi, pj, pk, y] and [pj, pi, pk, x].
     let valid = |i: usize, j: usize, k: usize| -> f64 {
@@ -129,7 +137,7 @@ pub(crate) fn remove_edge(
     };
     let pos = |v: u32| poly.iter().position(|&p| p == v);
     let tris = match choice {
-        Choice::Best => best_triangulation(&(0..poly.len()).collect::<Vec<_>>(), &valid),
+        Choice::Best => best_triangulation(all, &valid),
         Choice::With(t) => match (pos(t[0]), pos(t[1]), pos(t[2])) {
             (Some(i), Some(j), Some(k)) => forced(poly.len(), [i, j, k], &valid),
             _ => None,
@@ -141,7 +149,7 @@ pub(crate) fn remove_edge(
         },
         Choice::FanFrom(v) => pos(v)
             .and_then(|s| fan(poly.len(), s, &valid))
-            .or_else(|| best_triangulation(&(0..poly.len()).collect::<Vec<_>>(), &valid)),
+            .or_else(|| best_triangulation(all, &valid)),
     }
     .ok_or(Refused::NotPositive)?;
     let mut new = Vec::with_capacity(tris.len() * 2);

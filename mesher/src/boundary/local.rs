@@ -8,7 +8,7 @@
 //! opposite orientations, and the outer faces must be exactly the old region's outer
 //! faces with the same orientation. A rejected `replace` changes nothing.
 
-use crate::geom::predicates::{orient3d, Orientation};
+use crate::geom::predicates::{orient3d, Orientation, StaticFilter};
 use crate::geom::Point;
 use crate::tetmesh::{FaceRef, TetId, TetMesh, VertexId, FACE_VERTICES};
 use crate::FastMap as HashMap;
@@ -48,6 +48,11 @@ pub(crate) struct Local {
     pub stamps: Stamps,
     /// Scratch space of [`Local::replace`].
     pairing: Pairing,
+    /// A static filter for [`Local::orient`] over the box of the first `filtered`
+    /// vertices (rebuilt with the vertex-to-tet map; later vertices take the
+    /// semi-static filter).
+    filter: StaticFilter,
+    filtered: u32,
 }
 
 /// Scratch lists of [`Local::replace`]: the old region's outer faces (key, outside
@@ -108,6 +113,8 @@ impl Local {
             visit: Default::default(),
             stamps: Stamps::default(),
             pairing: Pairing::default(),
+            filter: StaticFilter::none(),
+            filtered: 0,
         };
         l.rebuild_v2t();
         l
@@ -121,7 +128,16 @@ impl Local {
     }
 
     fn rebuild_v2t(&mut self) {
-        self.v2t = vec![u32::MAX; self.mesh.num_vertices()];
+        let n = self.mesh.num_vertices();
+        let (mut lo, mut hi) = (Point::splat(f64::INFINITY), Point::splat(f64::NEG_INFINITY));
+        for v in 0..n {
+            let p = self.mesh.point(VertexId(v as u32));
+            lo = lo.min(p);
+            hi = hi.max(p);
+        }
+        self.filter = StaticFilter::new(lo, hi);
+        self.filtered = n as u32;
+        self.v2t = vec![u32::MAX; n];
         for t in self.mesh.tets() {
             for v in self.mesh.raw_tet(t.0) {
                 if v != GHOST {
@@ -137,10 +153,24 @@ impl Local {
         self.mesh.point(VertexId(v))
     }
 
+    /// Moves vertex `v` to `p`. The static filter of [`Local::orient`] holds only for
+    /// points in its box: a move out of the box turns it off.
+    pub fn set_point(&mut self, v: u32, p: Point) {
+        if !self.filter.contains(p) {
+            self.filtered = 0;
+        }
+        self.mesh.set_point(VertexId(v), p);
+    }
+
     /// Exact orientation of four vertices.
     #[inline]
     pub fn orient(&self, a: u32, b: u32, c: u32, d: u32) -> Orientation {
-        orient3d(self.p(a), self.p(b), self.p(c), self.p(d))
+        let (pa, pb, pc, pd) = (self.p(a), self.p(b), self.p(c), self.p(d));
+        if a.max(b).max(c).max(d) < self.filtered {
+            self.filter.orient3d(pa, pb, pc, pd)
+        } else {
+            orient3d(pa, pb, pc, pd)
+        }
     }
 
     #[inline]
@@ -801,6 +831,17 @@ mod tests {
         );
         l.mesh.validate(false).unwrap();
         assert_eq!(l.mesh.num_finite_tets(), 2);
+    }
+
+    #[test]
+    fn a_move_out_of_the_box_turns_the_static_filter_off() {
+        let mut l = two_tets();
+        assert_eq!(l.filtered, 5);
+        l.set_point(3, Point::new(0.0, 0.0, 0.5));
+        assert_eq!(l.filtered, 5, "a move inside the box keeps it");
+        l.set_point(3, Point::new(1e9, 1e9, 1e-12));
+        assert_eq!(l.filtered, 0);
+        assert_eq!(l.orient(0, 1, 2, 3), Orientation::Positive);
     }
 
     #[test]

@@ -23,7 +23,7 @@ use crate::boundary::local::Local;
 use crate::geom::predicates::Orientation;
 use crate::geom::Point;
 use crate::quality::tet::{q_k, signed_volume};
-use crate::tetmesh::{FaceRef, VertexId, FACE_VERTICES};
+use crate::tetmesh::{FaceRef, FACE_VERTICES};
 use crate::FastMap;
 use std::cell::Cell;
 
@@ -289,7 +289,7 @@ impl Ops {
             };
             for s in STEPS {
                 let p = old + (target - old) * s;
-                self.l.mesh.set_point(VertexId(v), p);
+                self.l.set_point(v, p);
                 // The quality first (Q_K is orientation-blind, so the exact orientation
                 // test is still needed, but only for the few moves that improve).
                 let positive = || {
@@ -308,7 +308,7 @@ impl Ops {
                 }
             }
         }
-        self.l.mesh.set_point(VertexId(v), old);
+        self.l.set_point(v, old);
         false
     }
 
