@@ -242,39 +242,13 @@ impl Local {
     /// `b` strictly beyond it, until a tet whose cone from `a` holds `b`: it has `b` as a
     /// vertex exactly when the edge exists (else `ab` leaves through its opposite face).
     fn walk_to_edge(&self, a: u32, b: u32) -> Walk {
-        let Some(&start) = self.v2t.get(a as usize) else {
-            return Walk::Unsure;
-        };
-        if start == u32::MAX || b == GHOST {
-            return Walk::Unsure;
+        // The walk stops in a tet that has `b` when the edge exists: `b` is then on
+        // or behind every face at `a` of the tets around `ab`.
+        match self.cone_walk(a, b) {
+            Some(t) if self.tet(t).contains(&b) => Walk::Found(t),
+            Some(_) => Walk::Absent,
+            None => Walk::Unsure,
         }
-        let mut t = start;
-        let mut prev = u32::MAX;
-        for step in 0..WALK_STEPS {
-            if self.is_ghost(t) {
-                return Walk::Unsure;
-            }
-            let v = self.tet(t);
-            if v.contains(&b) {
-                return Walk::Found(t);
-            }
-            let adj = self.adj(t);
-            // Rotate the order of the faces tried so that degenerate cycles break.
-            let next = (0..4).map(|k| (k + step) % 4).find(|&i| {
-                v[i] != a && FaceRef::from_raw(adj[i]).tet().0 != prev && {
-                    let f = FACE_VERTICES[i].map(|k| v[k]);
-                    self.orient(f[0], f[1], f[2], b) == Orientation::Negative
-                }
-            });
-            match next {
-                Some(i) => {
-                    prev = t;
-                    t = FaceRef::from_raw(adj[i]).tet().0;
-                }
-                None => return Walk::Absent,
-            }
-        }
-        Walk::Unsure
     }
 
     /// A live finite tet at `a` whose closed cone from `a` (over its face opposite `a`)
