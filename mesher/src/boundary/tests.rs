@@ -230,3 +230,25 @@ fn walks_in_the_star_agree_with_the_whole_star() {
         }
     }
 }
+
+#[test]
+fn only_ring_vertices_that_fold_the_ring_may_block_an_edge_removal() {
+    // Edge xy along z through a ring A -> R -> B -> C (counterclockwise seen from y,
+    // so that the ring tets (x, y, p_i, p_i+1) are positive) in z = 0; R is pulled
+    // towards the edge past the chord AB (a reflex ring vertex), B is convex.
+    let pts = vec![
+        Point::new(0.0, 0.0, -1.0),  // 0: x
+        Point::new(0.0, 0.0, 1.0),   // 1: y
+        Point::new(1.0, 1.0, 0.0),   // 2: A
+        Point::new(-1.0, 1.0, 0.0),  // 3: B
+        Point::new(0.0, 0.5, 0.0),   // 4: R
+        Point::new(-1.0, -1.0, 0.0), // 5: C
+        Point::new(0.0, 1.0, 5.0),   // 6: T, making a steep ear with A and B
+    ];
+    let mesh = crate::tetmesh::TetMesh::from_tets(pts, &[[0, 1, 2, 3]]).unwrap();
+    let rec = Recovery::new(Local::new(mesh));
+    assert!(rec.may_block(0, 1, 2, 4, 3), "reflex R");
+    assert!(!rec.may_block(0, 1, 4, 3, 5), "convex B");
+    // x and y on one side of the ear's plane: tried.
+    assert!(rec.may_block(0, 1, 2, 6, 3), "steep ear at T");
+}
