@@ -67,8 +67,9 @@ enum Command {
         /// Check every adjacency and orientation invariant afterwards.
         #[arg(long)]
         validate: bool,
-        /// Seed of the insertion order and of the recovery order; another seed gives
-        /// another, equally valid, boundary mesh.
+        /// Seed of the insertion order and of a shuffled edge recovery order (the
+        /// default is the sorted order); another seed gives another, equally valid,
+        /// boundary mesh, or more attempts (see `attempts` in --stats).
         #[arg(long)]
         seed: Option<u64>,
     },
@@ -362,7 +363,7 @@ fn boundary(
     validate: bool,
     seed: Option<u64>,
 ) -> Result<ExitCode> {
-    use mesher::boundary::{boundary_mesh, BoundaryError, BoundaryOptions};
+    use mesher::boundary::{boundary_mesh, BoundaryError, BoundaryOptions, EdgeOrder};
     let read = match mesher::io::read_surface(path) {
         Ok(r) => r,
         Err(e @ (IoError::Os { .. } | IoError::UnknownFormat { .. })) => return Err(e.into()),
@@ -376,6 +377,7 @@ fn boundary(
     let mut options = BoundaryOptions::default();
     if let Some(seed) = seed {
         options.seed = seed;
+        options.edge_order = EdgeOrder::Shuffled(seed);
     }
     let (bm, report) = match boundary_mesh(&read.surface, &options) {
         Ok(r) => r,

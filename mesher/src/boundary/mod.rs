@@ -27,8 +27,10 @@
 //! incremental Steiner rounds), `flips` (2-3,
 //! edge removal by ring re-triangulation), `recover` (segment and face recovery),
 //! `domain` (flood fill, regions, volumes), `split` (boundary Steiner points),
+//! `attempts` (the sorted, shuffled and rebuilding attempts),
 //! `suppress` (taking Steiner points out again).
 
+mod attempts;
 mod cone;
 mod domain;
 mod fan;
@@ -41,6 +43,7 @@ mod suppress;
 #[cfg(test)]
 mod tests;
 
+pub use attempts::boundary_mesh;
 pub use domain::Regions;
 pub use flips::FlipCounts;
 
@@ -97,6 +100,18 @@ pub struct BoundaryOptions {
     /// (8 -> 7), one more on box-with-hole (4 -> 5). When it leaves split edges, the
     /// recovery runs again at level 1 and keeps the result with fewer of them.
     pub flip_depth: usize,
+    /// The order in which the input edges are recovered.
+    pub edge_order: EdgeOrder,
+}
+
+/// The order of the edge recovery ([`BoundaryOptions::edge_order`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EdgeOrder {
+    /// By vertex ids: the surface's own numbering, usually spatially coherent, and
+    /// the order that recovers every corpus model at the first attempt.
+    Sorted,
+    /// A shuffle of the sorted order with this seed.
+    Shuffled(u64),
 }
 
 impl Default for BoundaryOptions {
@@ -111,6 +126,7 @@ impl Default for BoundaryOptions {
             split_rounds: 16,
             incremental: true,
             flip_depth: 2,
+            edge_order: EdgeOrder::Sorted,
         }
     }
 }
@@ -186,8 +202,9 @@ pub struct BoundaryReport {
     pub time_recovery: f64,
     /// Seconds: domain identification.
     pub time_domain: f64,
-    /// Recovery attempts (a second one, with rebuilding rounds, when the first leaves
-    /// entities stuck; the other fields describe the successful one).
+    /// Recovery attempts: more than one when the first leaves entities stuck (other
+    /// edge orders, then rebuilding rounds) or splits input edges (one level fewer of
+    /// preparatory removals); the other fields describe the recovery kept.
     pub attempts: usize,
     /// Seconds of all attempts together (0 when there was one).
     pub seconds_all_attempts: f64,
@@ -251,66 +268,6 @@ pub enum BoundaryError {
     },
 }
 
-/// Builds T(S,F) for a closed surface.
-///
-/// The recovery's outcome on hard surfaces (long thin coplanar triangles) hangs on many
-/// small choices; when the incremental rounds leave entities stuck, the recovery is run
-/// once more with the rebuilding rounds, and the first success is kept (the report
-/// counts the attempts). The error of the first attempt is returned when both fail.
-pub fn boundary_mesh(
-    surface: &Surface,
-    options: &BoundaryOptions,
-) -> Result<(BoundaryMesh, BoundaryReport), BoundaryError> {
-    let t0 = Instant::now();
-    let first = match boundary_attempt(surface, options) {
-        Err(e @ BoundaryError::Unrecovered { .. }) if options.incremental => e,
-        Ok(r) if options.flip_depth > 1 && boundary_steiner(&r.1) > 0 => {
-            return Ok(shallower_if_better(surface, options, r, t0));
-        }
-        other => return other,
-    };
-    let again = BoundaryOptions {
-        incremental: false,
-        check_input: false,
-        ..options.clone()
-    };
-    match boundary_attempt(surface, &again) {
-        Ok((bm, mut report)) => {
-            report.attempts = 2;
-            report.seconds_all_attempts = t0.elapsed().as_secs_f64();
-            Ok((bm, report))
-        }
-        Err(_) => Err(first),
-    }
-}
-
-/// Steiner points left on input edges and faces.
-fn boundary_steiner(r: &BoundaryReport) -> usize {
-    r.steiner_on_edges + r.steiner_on_faces
-}
-
-/// `deep` (a recovery with boundary Steiner points) or, when it has fewer of them,
-/// the recovery with one level of preparatory removals.
-fn shallower_if_better(
-    surface: &Surface,
-    options: &BoundaryOptions,
-    deep: (BoundaryMesh, BoundaryReport),
-    t0: Instant,
-) -> (BoundaryMesh, BoundaryReport) {
-    let shallow = BoundaryOptions {
-        flip_depth: 1,
-        check_input: false,
-        ..options.clone()
-    };
-    let mut best = match boundary_attempt(surface, &shallow) {
-        Ok(r) if boundary_steiner(&r.1) < boundary_steiner(&deep.1) => r,
-        _ => deep,
-    };
-    best.1.attempts = 2;
-    best.1.seconds_all_attempts = t0.elapsed().as_secs_f64();
-    best
-}
-
 /// One recovery with the given options.
 fn boundary_attempt(
     surface: &Surface,
@@ -334,7 +291,7 @@ fn boundary_attempt(
     }
     report.time_check = t0.elapsed().as_secs_f64();
     let mut work = Refined::new(surface);
-    let mut edges = input_edges(&work.surface);
+    let mut edges = input_edges(&work.surface, options.edge_order);
     let mut steiner_points: Vec<Point> = Vec::new();
     // Steiner points chosen since the last round (for an incremental round).
     let mut fresh: Vec<Point> = Vec::new();
@@ -442,7 +399,7 @@ fn boundary_attempt(
                     }
                 }
             }
-            edges = input_edges(&work.surface);
+            edges = input_edges(&work.surface, options.edge_order);
         }
         steiner_points.extend_from_slice(&fresh);
         if reusable {
@@ -637,11 +594,9 @@ fn add(a: FlipCounts, b: FlipCounts) -> FlipCounts {
     }
 }
 
-/// Unique input edges `(a, b, triangle)` with `a < b`, sorted. The order matters:
-/// recovering the edges in a random order instead failed on anchor, cheese or turbine
-/// for a quarter to a half of the seeds tried (stuck split rounds), where the sorted
-/// order (the surface's own numbering, spatially coherent) succeeds on every model.
-fn input_edges(surface: &Surface) -> Vec<(u32, u32, u32)> {
+/// Unique input edges `(a, b, triangle)` with `a < b`, in the given order (see
+/// [`boundary_mesh`] on why the order matters).
+fn input_edges(surface: &Surface, order: EdgeOrder) -> Vec<(u32, u32, u32)> {
     let mut e: Vec<(u32, u32, u32)> = Vec::with_capacity(surface.triangles.len() * 3 / 2);
     for (k, t) in surface.triangles.iter().enumerate() {
         for i in 0..3 {
@@ -655,6 +610,13 @@ fn input_edges(surface: &Surface) -> Vec<(u32, u32, u32)> {
     }
     e.sort_unstable();
     e.dedup_by_key(|x| (x.0, x.1));
+    if let EdgeOrder::Shuffled(seed) = order {
+        let mut rng = sort::SplitMix64::new(seed);
+        for i in (1..e.len()).rev() {
+            let j = rng.below(i + 1);
+            e.swap(i, j);
+        }
+    }
     e
 }
 

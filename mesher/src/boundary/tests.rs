@@ -1,5 +1,6 @@
 //! Unit tests of the boundary mesh on generated surfaces.
 
+use super::attempts::{attempt_options, ORDER_RETRIES};
 use super::*;
 use crate::surface::generate::{cube, icosphere, torus};
 
@@ -73,7 +74,7 @@ fn debug_model() {
         steiner_rounds: 0,
         ..BoundaryOptions::default()
     };
-    let edges = input_edges(&s);
+    let edges = input_edges(&s, EdgeOrder::Sorted);
     let (mesh, sv, _) = delaunay(&s, &[], &opts).unwrap();
     let mut rec = Recovery::new(Local::new(mesh));
     let mut report = BoundaryReport::default();
@@ -251,4 +252,38 @@ fn only_ring_vertices_that_fold_the_ring_may_block_an_edge_removal() {
     assert!(!rec.may_block(0, 1, 4, 3, 5), "convex B");
     // x and y on one side of the ear's plane: tried.
     assert!(rec.may_block(0, 1, 2, 6, 3), "steep ear at T");
+}
+
+#[test]
+fn a_shuffled_edge_order_is_a_permutation_of_the_sorted_one() {
+    let s = torus(24, 12, 2.0, 0.5);
+    let sorted = input_edges(&s, EdgeOrder::Sorted);
+    let mut shuffled = input_edges(&s, EdgeOrder::Shuffled(7));
+    assert_ne!(shuffled, sorted);
+    assert_eq!(shuffled, input_edges(&s, EdgeOrder::Shuffled(7)), "seeded");
+    shuffled.sort_unstable();
+    assert_eq!(shuffled, sorted);
+}
+
+#[test]
+fn a_failed_recovery_is_retried_in_other_orders_then_with_rebuilds() {
+    let opts = BoundaryOptions::default();
+    let all = attempt_options(&opts);
+    assert_eq!(all.len(), 2 + ORDER_RETRIES as usize);
+    assert_eq!(all[0].edge_order, EdgeOrder::Sorted);
+    assert!(all[0].check_input && all[1..].iter().all(|o| !o.check_input));
+    let seeds: Vec<EdgeOrder> = all[1..=ORDER_RETRIES as usize]
+        .iter()
+        .map(|o| o.edge_order)
+        .collect();
+    assert!(seeds.iter().all(|o| matches!(o, EdgeOrder::Shuffled(_))));
+    assert!(seeds.windows(2).all(|w| w[0] != w[1]));
+    assert!(all[..=ORDER_RETRIES as usize].iter().all(|o| o.incremental));
+    assert!(!all.last().unwrap().incremental);
+    // A recovery that rebuilds already has nothing to fall back on.
+    let rebuilding = BoundaryOptions {
+        incremental: false,
+        ..opts
+    };
+    assert_eq!(attempt_options(&rebuilding).len(), 1);
 }
