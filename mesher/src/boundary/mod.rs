@@ -597,18 +597,33 @@ fn add(a: FlipCounts, b: FlipCounts) -> FlipCounts {
 /// Unique input edges `(a, b, triangle)` with `a < b`, in the given order (see
 /// [`boundary_mesh`] on why the order matters).
 fn input_edges(surface: &Surface, order: EdgeOrder) -> Vec<(u32, u32, u32)> {
-    let mut e: Vec<(u32, u32, u32)> = Vec::with_capacity(surface.triangles.len() * 3 / 2);
-    for (k, t) in surface.triangles.iter().enumerate() {
+    // A counting sort on the smaller end, then each (small) bucket sorted: the order
+    // of one global sort, for a fraction of its cost (it runs at every split round).
+    let ends = |t: &[u32; 3], i: usize| {
+        let (a, b) = (t[i], t[(i + 1) % 3]);
+        (a.min(b), a.max(b))
+    };
+    let mut start = vec![0usize; surface.vertices.len() + 1];
+    for t in &surface.triangles {
         for i in 0..3 {
-            let (a, b) = (t[i], t[(i + 1) % 3]);
-            if a < b {
-                e.push((a, b, k as u32));
-            } else {
-                e.push((b, a, k as u32));
-            }
+            start[ends(t, i).0 as usize + 1] += 1;
         }
     }
-    e.sort_unstable();
+    for v in 1..start.len() {
+        start[v] += start[v - 1];
+    }
+    let mut e: Vec<(u32, u32, u32)> = vec![(0, 0, 0); 3 * surface.triangles.len()];
+    let mut next = start.clone();
+    for (k, t) in surface.triangles.iter().enumerate() {
+        for i in 0..3 {
+            let (a, b) = ends(t, i);
+            e[next[a as usize]] = (a, b, k as u32);
+            next[a as usize] += 1;
+        }
+    }
+    for w in start.windows(2) {
+        e[w[0]..w[1]].sort_unstable();
+    }
     e.dedup_by_key(|x| (x.0, x.1));
     if let EdgeOrder::Shuffled(seed) = order {
         let mut rng = sort::SplitMix64::new(seed);

@@ -287,3 +287,18 @@ fn a_failed_recovery_is_retried_in_other_orders_then_with_rebuilds() {
     };
     assert_eq!(attempt_options(&rebuilding).len(), 1);
 }
+
+#[test]
+fn input_edges_are_the_sorted_unique_edges_with_their_first_triangle() {
+    let s = torus(24, 12, 2.0, 0.5);
+    let mut all: Vec<(u32, u32, u32)> = Vec::new();
+    for (k, t) in s.triangles.iter().enumerate() {
+        for i in 0..3 {
+            let (a, b) = (t[i], t[(i + 1) % 3]);
+            all.push((a.min(b), a.max(b), k as u32));
+        }
+    }
+    all.sort_unstable();
+    all.dedup_by_key(|x| (x.0, x.1));
+    assert_eq!(input_edges(&s, EdgeOrder::Sorted), all);
+}
