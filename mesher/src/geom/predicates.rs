@@ -126,6 +126,12 @@ pub fn orient3d(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> Orientation {
             return Orientation::Negative;
         }
     }
+    // Four points with one coordinate in common (the differences are exact zeros
+    // then): a flat tet in an axis-aligned plane, common on CAD surfaces (cheese,
+    // turbine), answered without the exact stages.
+    if lo == 0.0 {
+        return Orientation::Zero;
+    }
     orient3d_exact(a, b, c, d)
 }
 
@@ -565,6 +571,38 @@ mod tests {
             orient2d([0.0, 0.0], [1.0, 0.0], [0.0, 1.0]),
             Orientation::Positive
         );
+    }
+
+    #[test]
+    fn points_sharing_a_coordinate_are_coplanar_as_the_exact_stages_say() {
+        // Arbitrary values in one axis-aligned plane, and one point a unit in the last
+        // place off it: the shortcut must answer only the first.
+        let p = [
+            v(0.0666403, 0.0828129999041748, -0.42323825299072265),
+            v(0.0666403, 0.08306436188423155, -0.42323210280609136),
+            v(0.0666403, -1e-3, 7.25),
+            v(0.0666403, 3.0e5, -2.5e-7),
+        ];
+        for k in 0..3 {
+            let q: Vec<DVec3> = p
+                .iter()
+                .map(|x| {
+                    let mut a = x.to_array();
+                    a.swap(0, k);
+                    DVec3::from_array(a)
+                })
+                .collect();
+            assert_eq!(orient3d(q[0], q[1], q[2], q[3]), Orientation::Zero);
+            assert_eq!(orient3d_exact(q[0], q[1], q[2], q[3]), Orientation::Zero);
+            let mut off = q[3].to_array();
+            off[k] = off[k].next_up();
+            let off = DVec3::from_array(off);
+            assert_eq!(
+                orient3d(q[0], q[1], q[2], off),
+                orient3d_exact(q[0], q[1], q[2], off)
+            );
+            assert_ne!(orient3d(q[0], q[1], q[2], off), Orientation::Zero);
+        }
     }
 
     #[test]
