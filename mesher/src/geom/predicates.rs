@@ -128,11 +128,39 @@ pub fn orient3d(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> Orientation {
     }
     // Four points with one coordinate in common (the differences are exact zeros
     // then): a flat tet in an axis-aligned plane, common on CAD surfaces (cheese,
-    // turbine), answered without the exact stages.
-    if lo == 0.0 {
+    // turbine); or a point given twice (the recovery asks that of a vertex and a face
+    // that holds it). Both are answered without the exact stages.
+    if lo == 0.0 || a == b || a == c || a == d || b == c || b == d || c == d {
+        return Orientation::Zero;
+    }
+    if two_parallel_to_an_axis([a, b, c, d]) {
         return Orientation::Zero;
     }
     orient3d_exact(a, b, c, d)
+}
+
+/// Whether two of the six differences between the four points are parallel to the same
+/// coordinate axis (their ends equal in the two other coordinates): the four points are
+/// then coplanar, exactly. Walls of prismatic holes (cheese) give many such flat tets.
+#[inline(never)]
+fn two_parallel_to_an_axis(p: [DVec3; 4]) -> bool {
+    let mut seen = [false; 3];
+    for i in 0..4 {
+        for j in i + 1..4 {
+            let (u, w) = (p[i], p[j]);
+            let axis = match (u.x == w.x, u.y == w.y, u.z == w.z) {
+                (false, true, true) => 0,
+                (true, false, true) => 1,
+                (true, true, false) => 2,
+                _ => continue,
+            };
+            if seen[axis] {
+                return true;
+            }
+            seen[axis] = true;
+        }
+    }
+    false
 }
 
 /// The orientation determinant in floating point, and the differences it used.
@@ -574,7 +602,7 @@ mod tests {
     }
 
     #[test]
-    fn points_sharing_a_coordinate_are_coplanar_as_the_exact_stages_say() {
+    fn shared_coordinates_and_repeated_points_are_coplanar_as_the_exact_stages_say() {
         // Arbitrary values in one axis-aligned plane, and one point a unit in the last
         // place off it: the shortcut must answer only the first.
         let p = [
@@ -602,6 +630,23 @@ mod tests {
                 orient3d_exact(q[0], q[1], q[2], off)
             );
             assert_ne!(orient3d(q[0], q[1], q[2], off), Orientation::Zero);
+        }
+        // Two differences parallel to one axis: the walls of a prismatic hole.
+        let (a, b) = (
+            v(-0.0436300002, 0.0362810008, 0.0063700001),
+            v(-0.0381130017, 0.0312799998, -0.0062799999),
+        );
+        let (c, d) = (v(b.x, b.y, 0.0062799999), v(a.x, a.y, -0.0063700001));
+        assert_eq!(orient3d(a, b, c, d), Orientation::Zero);
+        assert_eq!(orient3d_exact(a, b, c, d), Orientation::Zero);
+        let d_off = v(a.x.next_up(), a.y, -0.0063700001);
+        assert_eq!(orient3d(a, b, c, d_off), orient3d_exact(a, b, c, d_off));
+        assert_ne!(orient3d(a, b, c, d_off), Orientation::Zero);
+        // A point given twice.
+        let (x, y, z) = (v(0.1, 0.7, 0.3), v(-2.5, 1e-3, 4.0), v(3.0, 3.5, -1.25));
+        for t in [[x, y, z, x], [x, y, y, z], [z, x, y, z]] {
+            assert_eq!(orient3d(t[0], t[1], t[2], t[3]), Orientation::Zero);
+            assert_eq!(orient3d_exact(t[0], t[1], t[2], t[3]), Orientation::Zero);
         }
     }
 
