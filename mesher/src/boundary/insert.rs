@@ -11,7 +11,6 @@
 //! A split point the kernel rejects leaves the refined surface and the mesh out of
 //! step; the caller then rebuilds from scratch, which stays the fallback.
 
-use super::flips::Locks;
 use super::recover::Recovery;
 use crate::delaunay::{Constraints, Kernel, Location};
 use crate::geom::predicates::Orientation;
@@ -164,18 +163,14 @@ impl Recovery {
     /// mesh.
     fn keep_surviving_locks(&mut self, touched: &[bool]) {
         let hit = |x: u32| touched.get(x as usize).copied().unwrap_or(true);
-        let old = std::mem::take(&mut self.locks);
-        let mut locks = Locks::default();
-        for (a, b) in old.edges {
-            if !(hit(a) && hit(b)) || self.has_edge(a, b) {
-                locks.edges.insert((a, b));
-            }
-        }
-        for f in old.faces {
-            if !f.iter().all(|&x| hit(x)) || self.has_face(f[0], f[1], f[2]) {
-                locks.faces.insert(f);
-            }
-        }
+        // Filtered in place (the sets are large, the entities that go few).
+        let mut locks = std::mem::take(&mut self.locks);
+        locks
+            .edges
+            .retain(|&(a, b)| !(hit(a) && hit(b)) || self.has_edge(a, b));
+        locks
+            .faces
+            .retain(|f| !f.iter().all(|&x| hit(x)) || self.has_face(f[0], f[1], f[2]));
         self.locks = locks;
     }
 
@@ -188,6 +183,23 @@ impl Recovery {
             face_mask: vec![0; n],
             region: vec![0; n],
         };
+        // Most faces are not locked: a bit per hashed key rules them out before the
+        // set is probed (the set probe per face of every tet was most of an
+        // incremental round on turbine).
+        let bits = (self.locks.faces.len() * 16).next_power_of_two().max(64);
+        let mut filter = vec![0u64; bits / 64];
+        let slot = |k: &[u32; 3]| {
+            let h = (k[0] as u64)
+                .wrapping_mul(0x9E37_79B9_7F4A_7C15)
+                .rotate_left(21)
+                ^ (k[1] as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F)
+                ^ (k[2] as u64).wrapping_mul(0x1656_67B1_9E37_79F9);
+            (h >> 7) as usize & (bits - 1)
+        };
+        for k in &self.locks.faces {
+            let s = slot(k);
+            filter[s / 64] |= 1 << (s % 64);
+        }
         for t in mesh.tets() {
             if mesh.is_ghost(t) {
                 continue;
@@ -197,7 +209,8 @@ impl Recovery {
             for (i, f) in FACE_VERTICES.iter().enumerate() {
                 let mut key = [v[f[0]], v[f[1]], v[f[2]]];
                 key.sort_unstable();
-                if self.locks.faces.contains(&key) {
+                let s = slot(&key);
+                if filter[s / 64] & (1 << (s % 64)) != 0 && self.locks.faces.contains(&key) {
                     cons.face_mask[t.index()] |= 1 << i;
                 }
             }
