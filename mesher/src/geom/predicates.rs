@@ -14,8 +14,11 @@
 //! strictly inside its circumsphere.
 //!
 //! Exact stages, cheapest first: a semi-static floating-point filter (and the static
-//! [`StaticFilter`] of the kernel); then, for the calls the filter cannot decide (nearly
-//! coplanar or cospherical points), the determinant in fixed-point integers (module
+//! [`StaticFilter`] of the kernel); for [`orient3d`], exact zeros read from comparisons
+//! (a coordinate shared by the four points, a repeated point, two differences parallel
+//! to one axis: nearly all the undecided calls on CAD surfaces); then, for the calls the
+//! filter cannot decide (nearly coplanar or cospherical points), the determinant in
+//! fixed-point integers (module
 //! `fixed`: exact whenever the coordinate differences share a bounded exponent range,
 //! which is the case for neighbouring points); only the rest (wildly spread exponents,
 //! non-finite input) reach `robust`'s adaptive expansions, whose zero-initialised
