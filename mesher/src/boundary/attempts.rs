@@ -25,34 +25,40 @@ pub fn boundary_mesh(
     options: &BoundaryOptions,
 ) -> Result<(BoundaryMesh, BoundaryReport), BoundaryError> {
     let t0 = Instant::now();
-    let mut first = None;
-    let mut attempts = 0;
-    for opts in attempt_options(options) {
-        attempts += 1;
-        match boundary_attempt(surface, &opts) {
-            Ok(mut r) => {
-                if opts.flip_depth > 1 && boundary_steiner(&r.1) > 0 {
-                    attempts += 1;
-                    r = shallower_if_better(surface, &opts, r);
-                }
-                if attempts > 1 {
-                    r.1.attempts = attempts;
-                    r.1.seconds_all_attempts = t0.elapsed().as_secs_f64();
-                }
-                return Ok(r);
-            }
-            Err(e @ BoundaryError::Unrecovered { .. }) => {
-                first.get_or_insert(e);
-            }
+    let first = match boundary_attempt(surface, options) {
+        Ok(r) => return Ok(kept(surface, options, r, 1, t0)),
+        Err(e @ BoundaryError::Unrecovered { .. }) => e,
+        Err(e) => return Err(e),
+    };
+    // The first of `attempt_options` is `options` itself, done above.
+    for (k, opts) in attempt_options(options).iter().enumerate().skip(1) {
+        match boundary_attempt(surface, opts) {
+            Ok(r) => return Ok(kept(surface, opts, r, k + 1, t0)),
+            Err(BoundaryError::Unrecovered { .. }) => {}
             Err(e) => return Err(e),
         }
     }
-    Err(first.unwrap_or(BoundaryError::Unrecovered {
-        edges: 0,
-        faces: 0,
-        rounds: 0,
-        first: String::new(),
-    }))
+    Err(first)
+}
+
+/// The successful recovery `r`, the `attempts`-th, after the one more attempt of
+/// [`shallower_if_better`] when it split input edges; the report counts the attempts.
+fn kept(
+    surface: &Surface,
+    options: &BoundaryOptions,
+    mut r: (BoundaryMesh, BoundaryReport),
+    mut attempts: usize,
+    t0: Instant,
+) -> (BoundaryMesh, BoundaryReport) {
+    if options.flip_depth > 1 && boundary_steiner(&r.1) > 0 {
+        attempts += 1;
+        r = shallower_if_better(surface, options, r);
+    }
+    if attempts > 1 {
+        r.1.attempts = attempts;
+        r.1.seconds_all_attempts = t0.elapsed().as_secs_f64();
+    }
+    r
 }
 
 /// Shuffled edge orders tried after a first incremental recovery failed.

@@ -626,11 +626,7 @@ fn input_edges(surface: &Surface, order: EdgeOrder) -> Vec<(u32, u32, u32)> {
     }
     e.dedup_by_key(|x| (x.0, x.1));
     if let EdgeOrder::Shuffled(seed) = order {
-        let mut rng = sort::SplitMix64::new(seed);
-        for i in (1..e.len()).rev() {
-            let j = rng.below(i + 1);
-            e.swap(i, j);
-        }
+        sort::shuffle(&mut e, seed);
     }
     e
 }

@@ -45,6 +45,15 @@ impl SplitMix64 {
     }
 }
 
+/// Fisher-Yates shuffle of `v` with the generator seeded by `seed`.
+pub fn shuffle<T>(v: &mut [T], seed: u64) {
+    let mut rng = SplitMix64::new(seed);
+    for i in (1..v.len()).rev() {
+        let j = rng.below(i + 1);
+        v.swap(i, j);
+    }
+}
+
 /// Hilbert index of a point with integer coordinates below `2^HILBERT_BITS`.
 pub fn hilbert_key(coords: [u32; 3]) -> u64 {
     let mut x = coords;
@@ -146,11 +155,7 @@ pub fn brio_order(points: &[Point], seed: u64) -> Vec<u32> {
     let keys = hilbert_keys(points);
     let n = points.len();
     let mut idx: Vec<(u64, u32)> = keys.into_iter().zip(0..n as u32).collect();
-    let mut rng = SplitMix64::new(seed);
-    for i in (1..n).rev() {
-        let j = rng.below(i + 1);
-        idx.swap(i, j);
-    }
+    shuffle(&mut idx, seed);
     let mut end = n;
     loop {
         let start = if end / BRIO_RATIO < BRIO_MIN_ROUND {
