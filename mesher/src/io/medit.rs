@@ -6,7 +6,7 @@
 //! keyword. Indices are 1-based in the file and 0-based in memory. `#` starts a comment.
 
 use super::error::IoError;
-use super::text::{check_indices, Tokens};
+use super::text::{check_indices, IndexLine, Tokens};
 use super::{read_bytes, write_with};
 use crate::surface::Surface;
 use crate::volume::VolumeMesh;
@@ -160,15 +160,17 @@ pub fn write_mesh<W: Write>(w: &mut W, m: &VolumeMesh) -> std::io::Result<()> {
     }
     if !m.triangles.is_empty() {
         writeln!(w, "\nTriangles\n{}", m.triangles.len())?;
+        let mut line = IndexLine::default();
         for (i, t) in m.triangles.iter().enumerate() {
             let r = m.triangle_refs.get(i).copied().unwrap_or(0);
-            writeln!(w, "{} {} {} {r}", t[0] + 1, t[1] + 1, t[2] + 1)?;
+            line.write(w, t, 1, r)?;
         }
     }
     writeln!(w, "\nTetrahedra\n{}", m.tets.len())?;
+    let mut line = IndexLine::default();
     for (i, t) in m.tets.iter().enumerate() {
         let r = m.tet_refs.get(i).copied().unwrap_or(0);
-        writeln!(w, "{} {} {} {} {r}", t[0] + 1, t[1] + 1, t[2] + 1, t[3] + 1)?;
+        line.write(w, t, 1, r)?;
     }
     writeln!(w, "\nEnd")
 }

@@ -215,32 +215,55 @@ pub struct EdgeLengthStats {
 
 /// The unique edges `[i, j]`, `i < j`, of tets, sorted.
 pub fn unique_tet_edges(tets: &[[u32; 4]]) -> Vec<[u32; 2]> {
-    let mut e: Vec<[u32; 2]> = Vec::with_capacity(tets.len() * 6);
-    for t in tets {
-        for [i, j] in crate::quality::tet::TET_EDGES {
-            e.push(sorted_pair(t[i], t[j]));
-        }
-    }
-    e.sort_unstable();
-    e.dedup();
-    e
+    unique_edges(tets, &crate::quality::tet::TET_EDGES)
 }
 
 /// The unique edges `[i, j]`, `i < j`, of triangles, sorted.
 pub fn unique_triangle_edges(triangles: &[[u32; 3]]) -> Vec<[u32; 2]> {
-    let mut e: Vec<[u32; 2]> = Vec::with_capacity(triangles.len() * 3);
-    for t in triangles {
-        for k in 0..3 {
-            e.push(sorted_pair(t[k], t[(k + 1) % 3]));
-        }
-    }
-    e.sort_unstable();
-    e.dedup();
-    e
+    unique_edges(triangles, &[[0, 1], [1, 2], [2, 0]])
 }
 
-fn sorted_pair(a: u32, b: u32) -> [u32; 2] {
-    [a.min(b), a.max(b)]
+/// The unique edges `[i, j]`, `i < j`, of cells given by their local `edges`, sorted:
+/// a counting sort by the smaller vertex, then each (short) bucket sorted and
+/// deduplicated. On 4 M tets: 0.3 s instead of 2 s for sorting all 24 M pairs.
+fn unique_edges<const N: usize>(cells: &[[u32; N]], edges: &[[usize; 2]]) -> Vec<[u32; 2]> {
+    let n = cells
+        .iter()
+        .flatten()
+        .map(|&v| v as usize + 1)
+        .max()
+        .unwrap_or(0);
+    let mut start = vec![0usize; n + 1];
+    for c in cells {
+        for &[i, j] in edges {
+            start[c[i].min(c[j]) as usize + 1] += 1;
+        }
+    }
+    for v in 0..n {
+        start[v + 1] += start[v];
+    }
+    let mut fill = start.clone();
+    let mut other = vec![0u32; start[n]];
+    for c in cells {
+        for &[i, j] in edges {
+            let (a, b) = (c[i].min(c[j]), c[i].max(c[j]));
+            other[fill[a as usize]] = b;
+            fill[a as usize] += 1;
+        }
+    }
+    let mut out = Vec::with_capacity(start[n] / 2);
+    for a in 0..n {
+        let bucket = &mut other[start[a]..start[a + 1]];
+        bucket.sort_unstable();
+        let mut last = None;
+        for &b in bucket.iter() {
+            if last != Some(b) {
+                out.push([a as u32, b]);
+                last = Some(b);
+            }
+        }
+    }
+    out
 }
 
 /// Normalised-length statistics of the given edges, with `sizes[v]` the size at vertex
@@ -349,6 +372,32 @@ mod tests {
         assert_eq!(median(&mut [3.0, 1.0, 2.0]), 2.0);
         assert_eq!(median(&mut [4.0, 1.0, 3.0, 2.0]), 2.5);
         assert_eq!(median(&mut [1.0, f64::INFINITY]), f64::INFINITY);
+    }
+
+    #[test]
+    fn unique_edges_equal_a_sort_and_dedup_of_all_pairs() {
+        let mut s = 7u64;
+        let mut rnd = |n: u64| {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s % n) as u32
+        };
+        let tets: Vec<[u32; 4]> = (0..500).map(|_| [0; 4].map(|_| rnd(60))).collect();
+        let mut all: Vec<[u32; 2]> = tets
+            .iter()
+            .flat_map(|t| {
+                crate::quality::tet::TET_EDGES.map(|[i, j]| [t[i].min(t[j]), t[i].max(t[j])])
+            })
+            .collect();
+        all.sort_unstable();
+        all.dedup();
+        assert_eq!(unique_tet_edges(&tets), all);
+        assert!(unique_tet_edges(&[]).is_empty());
+        assert_eq!(
+            unique_triangle_edges(&[[2, 1, 0]]),
+            vec![[0, 1], [0, 2], [1, 2]]
+        );
     }
 
     #[test]
