@@ -4,7 +4,8 @@
 //! Existing mesh vertices can be registered too ([`Grid::add_vertex`]): a point closer
 //! than `delta_v` to one of them is dropped here, before the kernel builds its cavity.
 //!
-//! The search goes through hash grids, never all pairs. Since `h` is linear along
+//! The search goes through uniform grids (a dense array of cells over the points' box,
+//! or a hash map when that box has too many cells), never all pairs. Since `h` is linear along
 //! `PQ`, `l(PQ) >= |PQ| / max(h_P, h_Q)`, so a close pair is closer than `delta_f`
 //! times the larger size: a kept point is registered in its own cell, and a query looks
 //! at the cells within that radius. The points of size up to `h_small` (the caller's
@@ -12,46 +13,9 @@
 //! cells of side `delta * h_max` ([`Grid`]); spans are clipped at [`MAX_SPAN`] cells
 //! per axis, which `h_small >= h_max / MAX_SPAN` never reaches.
 
-use crate::geom::Point;
+use crate::geom::{Aabb, Point};
 use crate::quality::length::normalized_length;
-use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
-
-/// A multiplicative hash for cell keys (lookups only: no iteration order is used).
-#[derive(Default)]
-struct CellHasher(u64);
-
-impl Hasher for CellHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-    fn write(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.write_u64(b as u64);
-        }
-    }
-    fn write_i64(&mut self, x: i64) {
-        self.write_u64(x as u64);
-    }
-    fn write_u64(&mut self, x: u64) {
-        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
-    }
-}
-
-/// A cell's integer coordinates. Hashed as three words: the derived hash of an array
-/// of integers goes through `Hasher::write` byte by byte, 24 rounds per key.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct Cell([i64; 3]);
-
-impl std::hash::Hash for Cell {
-    fn hash<H: Hasher>(&self, state: &mut H) {
-        for k in self.0 {
-            state.write_i64(k);
-        }
-    }
-}
-
-type CellMap = HashMap<Cell, Vec<u32>, BuildHasherDefault<CellHasher>>;
+use crate::FastMap;
 
 /// Kept points checked first, most recent first (see [`Grid::try_keep`]).
 const RECENT: usize = 16;
@@ -59,19 +23,109 @@ const RECENT: usize = 16;
 /// Cells per axis on each side of a point's own cell, at most.
 pub const MAX_SPAN: i64 = 8;
 
-/// One uniform level of the grid: cells of side `cell`, each listing entry ids.
+/// Bits per axis of a packed cell key: cells farther apart than `2^21` along an axis
+/// may share a key, which only lengthens a chain (the distances are checked anyway).
+const KEY_BITS: u32 = 21;
+
+/// Sizes within this ratio of the largest go to one level: the 8 cells of a second
+/// level cost more than the few more entries per cell.
+const ONE_LEVEL_RATIO: f64 = 1.25;
+
+/// A level is a dense array of cells when it has at most this many cells per point
+/// expected (or [`DENSE_MIN_CELLS`]), and a hash map otherwise (a box much larger
+/// than the points' sizes).
+const DENSE_CELLS_PER_POINT: usize = 16;
+
+/// Cells a dense level may always have.
+const DENSE_MIN_CELLS: usize = 1 << 16;
+
+/// End of a chain of entries.
+const NONE: u32 = u32::MAX;
+
+/// The heads of the cells' chains: a dense array over a box of cells (cells outside
+/// are clamped to its border: that only lengthens the border's chains), or a hash map.
+#[derive(Debug)]
+enum Heads {
+    Dense {
+        lo: [i64; 3],
+        dims: [i64; 3],
+        heads: Vec<u32>,
+    },
+    Hashed(FastMap<u64, u32>),
+}
+
+impl Heads {
+    /// The slot of cell `c`: its index in the dense array or its packed key.
+    fn slot(&self, c: [i64; 3]) -> u64 {
+        match self {
+            Heads::Dense { lo, dims, .. } => {
+                let k: [i64; 3] = std::array::from_fn(|i| (c[i] - lo[i]).clamp(0, dims[i] - 1));
+                ((k[2] * dims[1] + k[1]) * dims[0] + k[0]) as u64
+            }
+            Heads::Hashed(_) => {
+                let m = (1u64 << KEY_BITS) - 1;
+                (c[0] as u64 & m)
+                    | (c[1] as u64 & m) << KEY_BITS
+                    | (c[2] as u64 & m) << (2 * KEY_BITS)
+            }
+        }
+    }
+
+    fn get(&self, slot: u64) -> u32 {
+        match self {
+            Heads::Dense { heads, .. } => heads[slot as usize],
+            Heads::Hashed(map) => map.get(&slot).copied().unwrap_or(NONE),
+        }
+    }
+
+    /// Makes `e` the head of `slot`; returns the previous head.
+    fn replace(&mut self, slot: u64, e: u32) -> u32 {
+        match self {
+            Heads::Dense { heads, .. } => std::mem::replace(&mut heads[slot as usize], e),
+            Heads::Hashed(map) => map.insert(slot, e).unwrap_or(NONE),
+        }
+    }
+}
+
+/// One uniform level of the grid: cells of side `cell`, each the head of a chain of
+/// entries (one array or hash lookup per cell, no allocation per cell).
 #[derive(Debug)]
 struct Level {
     cell: f64,
-    cells: CellMap,
+    heads: Heads,
+    /// Per entry: its id and the next entry of its cell.
+    links: Vec<(u32, u32)>,
 }
 
 impl Level {
-    fn new(cell: f64) -> Level {
-        Level {
-            cell: cell.max(f64::MIN_POSITIVE),
-            cells: CellMap::default(),
+    /// A level of cells of side `cell`, dense over `bounds` when that box has few
+    /// enough cells for `points` entries.
+    fn new(cell: f64, bounds: Option<Aabb>, points: usize) -> Level {
+        let cell = cell.max(f64::MIN_POSITIVE);
+        let mut level = Level {
+            cell,
+            heads: Heads::Hashed(FastMap::default()),
+            links: Vec::new(),
+        };
+        if let Some(bb) = bounds {
+            let lo = [bb.min.x, bb.min.y, bb.min.z].map(|c| level.key(c));
+            let hi = [bb.max.x, bb.max.y, bb.max.z].map(|c| level.key(c));
+            let dims: [i64; 3] = std::array::from_fn(|i| hi[i] - lo[i] + 1);
+            let limit = points
+                .saturating_mul(DENSE_CELLS_PER_POINT)
+                .max(DENSE_MIN_CELLS);
+            let cells = dims
+                .iter()
+                .try_fold(1usize, |n, &d| n.checked_mul(usize::try_from(d).ok()?));
+            if let Some(n) = cells.filter(|&n| n <= limit) {
+                level.heads = Heads::Dense {
+                    lo,
+                    dims,
+                    heads: vec![NONE; n],
+                };
+            }
         }
+        level
     }
 
     fn key(&self, x: f64) -> i64 {
@@ -83,8 +137,8 @@ impl Level {
         }
     }
 
-    fn cell_of(&self, p: Point) -> Cell {
-        Cell([p.x, p.y, p.z].map(|c| self.key(c)))
+    fn cell_of(&self, p: Point) -> [i64; 3] {
+        [p.x, p.y, p.z].map(|c| self.key(c))
     }
 
     /// The cell range of the box of half-side `r` around `p` (2 cells per axis when
@@ -99,22 +153,35 @@ impl Level {
         })
     }
 
-    /// True when `near` holds for the entries of some cell within `r` of `p` (the
-    /// point's own cell first).
-    fn any_within(&self, p: Point, r: f64, near: impl Fn(&Vec<u32>) -> bool) -> bool {
-        if self.cells.is_empty() {
+    /// True when `near` holds for an entry of the cell at `slot`.
+    fn any_in(&self, slot: u64, near: &impl Fn(u32) -> bool) -> bool {
+        let mut e = self.heads.get(slot);
+        while e != NONE {
+            let (id, next) = self.links[e as usize];
+            if near(id) {
+                return true;
+            }
+            e = next;
+        }
+        false
+    }
+
+    /// True when `near` holds for an entry of some cell within `r` of `p` (the point's
+    /// own cell first).
+    fn any_within(&self, p: Point, r: f64, near: impl Fn(u32) -> bool) -> bool {
+        if self.links.is_empty() {
             return false;
         }
-        let own = self.cell_of(p);
-        if self.cells.get(&own).is_some_and(&near) {
+        let own = self.heads.slot(self.cell_of(p));
+        if self.any_in(own, &near) {
             return true;
         }
         let rg = self.range(p, r);
         for x in rg[0].0..=rg[0].1 {
             for y in rg[1].0..=rg[1].1 {
                 for z in rg[2].0..=rg[2].1 {
-                    let cell = Cell([x, y, z]);
-                    if cell != own && self.cells.get(&cell).is_some_and(&near) {
+                    let slot = self.heads.slot([x, y, z]);
+                    if slot != own && self.any_in(slot, &near) {
                         return true;
                     }
                 }
@@ -124,8 +191,9 @@ impl Level {
     }
 
     fn add(&mut self, p: Point, id: u32) {
-        let key = self.cell_of(p);
-        self.cells.entry(key).or_default().push(id);
+        let e = self.links.len() as u32;
+        let next = self.heads.replace(self.heads.slot(self.cell_of(p)), e);
+        self.links.push((id, next));
     }
 }
 
@@ -154,21 +222,33 @@ impl Grid {
     /// An empty grid for points of sizes at most `h_max`, with the filtration distance
     /// `delta_f` between kept points and `delta_v` to registered vertices.
     pub fn new(h_max: f64, delta_f: f64, delta_v: f64) -> Grid {
-        Grid::with_sizes(h_max, h_max, delta_f, delta_v)
+        Grid::with_sizes(h_max, h_max, delta_f, delta_v, None)
     }
 
     /// [`Grid::new`] with the small level for sizes up to `h_small` (clamped to
-    /// `[h_max / MAX_SPAN, h_max]`, so that no query span is ever clipped).
-    pub fn with_sizes(h_small: f64, h_max: f64, delta_f: f64, delta_v: f64) -> Grid {
+    /// `[h_max / MAX_SPAN, h_max]`, so that no query span is ever clipped), and
+    /// `bounds` the box of the points to come with their number (dense levels when
+    /// that box has few enough cells; the points may still lie anywhere).
+    pub fn with_sizes(
+        h_small: f64,
+        h_max: f64,
+        delta_f: f64,
+        delta_v: f64,
+        bounds: Option<(Aabb, usize)>,
+    ) -> Grid {
         let d = delta_f.max(delta_v);
-        let h_small = h_small.min(h_max).max(h_max / MAX_SPAN as f64);
+        let h_small = if h_small * ONE_LEVEL_RATIO >= h_max {
+            h_max
+        } else {
+            h_small.max(h_max / MAX_SPAN as f64)
+        };
         Grid {
             delta_f,
             delta_v,
             h_small,
             h_max,
-            small: Level::new(d * h_small),
-            big: Level::new(d * h_max),
+            small: Level::new(d * h_small, bounds.map(|b| b.0), bounds.map_or(0, |b| b.1)),
+            big: Level::new(d * h_max, None, 0),
             kept: Vec::new(),
             vertices: Vec::new(),
         }
@@ -207,15 +287,13 @@ impl Grid {
         {
             return false;
         }
-        let near = |list: &Vec<u32>| {
-            list.iter().any(|&k| {
-                let ((q, hq), limit) = if k & VERTEX_BIT != 0 {
-                    (self.vertices[(k & !VERTEX_BIT) as usize], delta_v)
-                } else {
-                    (self.kept[k as usize], delta_f)
-                };
-                close(p, q, h, hq, limit)
-            })
+        let near = |k: u32| {
+            let ((q, hq), limit) = if k & VERTEX_BIT != 0 {
+                (self.vertices[(k & !VERTEX_BIT) as usize], delta_v)
+            } else {
+                (self.kept[k as usize], delta_f)
+            };
+            close(p, q, h, hq, limit)
         };
         let d = self.delta_f.max(self.delta_v);
         if self.small.any_within(p, d * h.max(self.h_small), near)
@@ -258,10 +336,21 @@ mod tests {
     #[test]
     fn no_kept_pair_is_closer_than_delta_f() {
         let delta_f = std::f64::consts::FRAC_1_SQRT_2;
+        let unit = Aabb {
+            min: Point::ZERO,
+            max: Point::ONE,
+        };
+        let half = Aabb {
+            min: Point::splat(0.25),
+            max: Point::splat(0.75),
+        };
         // One level, and two (sizes above 0.1 in the large cells).
         for mut g in [
             Grid::new(0.2, delta_f, delta_f),
-            Grid::with_sizes(0.1, 0.2, delta_f, delta_f),
+            Grid::with_sizes(0.1, 0.2, delta_f, delta_f, None),
+            Grid::with_sizes(0.1, 0.2, delta_f, delta_f, Some((unit, 3000))),
+            // A dense box smaller than the points' (clamped cells).
+            Grid::with_sizes(0.1, 0.2, delta_f, delta_f, Some((half, 3000))),
         ] {
             // Pseudo-random points with sizes varying by a factor 4.
             let mut s = 12345u64;

@@ -529,7 +529,20 @@ fn filtrate(
         let k = (sizes.len() - 1) * 99 / 100;
         *sizes.select_nth_unstable_by(k, f64::total_cmp).1
     };
-    let mut grid = Grid::with_sizes(h_small, h_max, params.delta_f, params.delta_v);
+    let pts = fm.mesh.points();
+    let bounds = crate::geom::Aabb::of_points(
+        cands
+            .iter()
+            .map(|c| &c.p)
+            .chain(verts.iter().map(|&v| &pts[v])),
+    );
+    let mut grid = Grid::with_sizes(
+        h_small,
+        h_max,
+        params.delta_f,
+        params.delta_v,
+        bounds.map(|b| (b, cands.len() + verts.len())),
+    );
     for &v in &verts {
         grid.add_vertex(fm.mesh.points()[v], fm.h[v]);
     }
