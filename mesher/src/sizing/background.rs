@@ -20,6 +20,10 @@ use crate::volume::VolumeMesh;
 
 /// Steps of a location walk before it gives up (clamped coordinates).
 const MAX_WALK: usize = 4096;
+/// Smallest barycentric coordinate that ends a walk without the exact orientations:
+/// rounding moves a coordinate by far less, unless the tet is flat (and then the
+/// coordinates still weigh its own vertices' sizes).
+const CLEARLY_INSIDE: f64 = 1e-6;
 /// Background tets crossed by one edge before the piecewise length stops splitting.
 const MAX_CROSSINGS: usize = 256;
 /// Passes of neighbour averaging for vertices without a size of their own.
@@ -118,6 +122,13 @@ impl Background {
         for step in 0..MAX_WALK {
             visited = step + 1;
             let q = self.mesh.tet_points(crate::tetmesh::TetId(t));
+            // Clearly inside (most queries, whose hint is the last tet): the inexact
+            // coordinates settle it without the exact orientations.
+            let l = barycentric(&q, p);
+            if l.iter().all(|&x| x >= CLEARLY_INSIDE) {
+                *hint = t;
+                return (t, l, visited);
+            }
             // Across a face that `p` lies beyond (exact orientation), the faces tried in
             // random order, never back through the face just crossed (module doc). The
             // greedy walk across the most negative inexact coordinate cycled here: on
