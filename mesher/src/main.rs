@@ -142,7 +142,7 @@ struct MeshArgs {
     /// Target normalised length of the optimal point's edges (paper: 1)
     #[arg(long, default_value_t = mesher::front::FrontParams::default().point.length)]
     point_length: f64,
-    /// Spacing of the seed lattice inserted before the first front, in median sizes (inf: none)
+    /// Cube side of the seed lattices inserted before the first front, in their sizes (inf: none)
     #[arg(long, default_value_t = mesher::front::FrontParams::default().seed_spacing)]
     seed_spacing: f64,
     /// Filter the field points against the vertices of every unacceptable tet

@@ -267,11 +267,10 @@ fn armadillo_fold_tet_of_four_boundary_vertices_is_lifted() {
     assert!(o.worst_after < 13.2, "worst {}", o.worst_after);
 }
 
-/// Seeds deep inside a sphere (a sparse lattice inserted before the first front) cut
-/// the kernel's cavity work: the first front's points are nearly cospherical, and
-/// without seeds each one's cavity spans much of the void; the mesh stays alike.
+/// Seed lattices deep inside a sphere (inserted before the first front) fill the
+/// interior at once: fewer iterations, less cavity work, fewer tets, the same quality.
 #[test]
-fn seeds_cut_the_first_fronts_cavities() {
+fn seeds_fill_the_interior_before_the_front() {
     let s = icosphere(5);
     let without = Params {
         front: FrontParams {
@@ -284,13 +283,23 @@ fn seeds_cut_the_first_fronts_cavities() {
     let (_, r1) = check("sphere with seeds", &s, &Params::default());
     assert_eq!(r0.front.seeds, 0);
     assert!(r1.front.seeds > 0);
+    let its = |r: &Report| r.front.iterations.len();
     assert!(
-        r1.front.cavity_tets * 3 < r0.front.cavity_tets * 2,
+        its(&r1) < its(&r0),
+        "{} vs {} iterations",
+        its(&r1),
+        its(&r0)
+    );
+    assert!(
+        r1.front.cavity_tets < r0.front.cavity_tets,
         "{} vs {}",
         r1.front.cavity_tets,
         r0.front.cavity_tets
     );
-    assert!((r1.tets as f64 / r0.tets as f64 - 1.0).abs() < 0.03);
+    // The lattice packs a little less densely than the front's points (sphere-10k:
+    // 19 % fewer tets, closer to Gmsh HXT's count on the same sizes).
+    let ratio = r1.tets as f64 / r0.tets as f64;
+    assert!((0.7..1.0).contains(&ratio), "{} vs {}", r1.tets, r0.tets);
     let worst = |r: &Report| r.optimize.as_ref().unwrap().worst_after;
     assert!(
         worst(&r1) < 1.1 * worst(&r0),

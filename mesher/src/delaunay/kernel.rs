@@ -201,6 +201,16 @@ impl Kernel {
         locate_by_scan(mesh, p)
     }
 
+    /// [`Kernel::locate`], and the next walk starts where this one ended (a sequence of
+    /// nearby queries, each a few steps).
+    pub fn locate_next(&mut self, mesh: &TetMesh, p: Point) -> Location {
+        let at = self.locate(mesh, p);
+        if let Location::InTet(t) | Location::Outside(t) = at {
+            self.last = t.0;
+        }
+        at
+    }
+
     /// Inserts `p`: a new vertex, or the existing vertex at the same coordinates. A
     /// non-finite point or one beyond [`super::MAX_COORDINATE`] is refused (its index in
     /// the error is the vertex it would have been), leaving the mesh unchanged.

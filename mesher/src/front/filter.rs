@@ -307,6 +307,22 @@ impl Grid {
         true
     }
 
+    /// True when a kept point is closer than `delta_f` or a registered vertex closer
+    /// than `delta_v` to `p` (size `h`); nothing is kept.
+    pub fn any_close(&self, p: Point, h: f64) -> bool {
+        let near = |k: u32| {
+            let ((q, hq), limit) = if k & VERTEX_BIT != 0 {
+                (self.vertices[(k & !VERTEX_BIT) as usize], self.delta_v)
+            } else {
+                (self.kept[k as usize], self.delta_f)
+            };
+            close(p, q, h, hq, limit)
+        };
+        let d = self.delta_f.max(self.delta_v);
+        self.small.any_within(p, d * h.max(self.h_small), near)
+            || self.big.any_within(p, d * h.max(self.h_max), near)
+    }
+
     /// The points kept so far, in order.
     pub fn kept(&self) -> &[(Point, f64)] {
         &self.kept

@@ -1,113 +1,231 @@
-//! Seed points deep inside the domain before the first front (not in the paper).
+//! Seed lattices deep inside the domain before the first front (not in the paper).
 //!
-//! The first front inserts its points into T(S,F), whose interior tets join boundary
-//! vertices across the whole domain. On a smooth convex surface these vertices are
-//! nearly cospherical, and so are the first layer's points: each new point lies inside
-//! the circumspheres of a large share of the tets across the void, and its cavity
-//! re-triangulates that share (sphere-100k: 370 cavity tets per attempt in the first
-//! iteration against about 20 later, 10.5 s of a 30 s front). A sparse lattice of
-//! points far from the surface, inserted first, breaks the void into tets a few sizes
-//! across; the front then meets these points as it meets any vertex (its points are
-//! filtered against them).
+//! The paper's front advances about one layer of tets per iteration, so a domain many
+//! sizes deep takes as many iterations (sphere-100k: 46 with three points per face),
+//! and the first fronts insert their points into T(S,F), whose interior tets join
+//! boundary vertices across the whole domain (huge cavities). Here the interior is
+//! seeded first with body-centred cubic (BCC) lattices, as in Labelle and Shewchuk's
+//! isosurface stuffing ("Isosurface stuffing: fast tetrahedral meshes with good
+//! dihedral angles", SIGGRAPH 2007): the Delaunay tets of a BCC lattice are all alike
+//! (two edges of the cube side, four of `sqrt(3)/2` of it) and the lattice is not
+//! cospherical, so it meshes well and fast.
+//!
+//! Sizes vary, so there is one lattice per level of size (ratio [`LEVEL_RATIO`]); a
+//! lattice point is kept where the size field is within its level's band, inside the
+//! domain (located in T(S,F)) and farther than the clearance from the domain's
+//! vertices and the points of the levels made before it. Each point is jittered a little: a partly
+//! inserted lattice is cospherical. The front accepts the seeds' tets whose edges fit
+//! and fills the gaps (between the surface and the lattices, and between levels).
 
+use super::filter::Grid;
 use super::{Candidate, FieldMesh, FrontParams};
 use crate::delaunay::sort::SplitMix64;
-use crate::geom::Point;
+use crate::delaunay::{Kernel, Location};
+use crate::geom::{Aabb, Point};
 use crate::sizing::SizeField;
 use crate::tetmesh::TetId;
+use rayon::prelude::*;
 
-/// Largest number of lattice points tried (the spacing grows to stay below it).
-const MAX_CANDIDATES: usize = 1 << 20;
+/// Largest number of lattice points tried per level (a finer level is skipped).
+const MAX_CANDIDATES: usize = 1 << 23;
 
-/// The seed candidates: the points of a cubic lattice of spacing
-/// `params.seed_spacing` times the median size at the domain's vertices, over the
-/// domain's bounding box, in lattice order. Each must keep `params.seed_clearance`
-/// (normalised) from every vertex its cavity reaches, which drops those near the
-/// surface and outside the domain when they are inserted.
+/// Ratio between the sizes of consecutive lattice levels: a point belongs to the
+/// level whose size is within a factor `sqrt(LEVEL_RATIO)` of its own.
+pub const LEVEL_RATIO: f64 = 1.5;
+
+/// Largest relative change of the size from a lattice point to its six neighbours at
+/// one cube side: where sizes grade faster, the front places the points (a lattice
+/// there leaves a gap the front cannot grade across: fandisk-in-box, worst Q_K 17 ->
+/// 265 without this test).
+const MAX_VARIATION: f64 = 0.2;
+
+/// Percentile of the domain vertices' sizes that sets the finest lattice level.
+const LOW_PERCENTILE: usize = 10;
+
+/// The seed candidates by level (each level in lattice order): the points of
+/// body-centred cubic lattices whose cube side is `params.seed_spacing` times the
+/// level's size, kept where the size field is within the level's band and farther
+/// than `params.seed_clearance` (normalised) from every domain vertex. At insertion
+/// each seed must also keep that clearance from every vertex its cavity reaches other
+/// than its own level's seeds, which drops those outside the domain and leaves a gap
+/// between levels that the front fills.
 pub(super) fn candidates(
     fm: &FieldMesh,
     field: &dyn SizeField,
     params: &FrontParams,
-) -> Vec<Candidate> {
+) -> Vec<Vec<Candidate>> {
     if !(params.seed_spacing.is_finite() && params.seed_spacing > 0.0) {
         return Vec::new();
     }
-    let mesh = &fm.mesh;
-    let mut used = vec![false; fm.h.len()];
-    let mut hint_tet = None;
-    for t in 0..mesh.num_slots() as u32 {
-        if fm.cons.region[t as usize] != 0 && mesh.is_alive(TetId(t)) {
-            hint_tet.get_or_insert(t);
-            for v in mesh.raw_tet(t) {
-                if let Some(u) = used.get_mut(v as usize) {
-                    *u = true;
-                }
-            }
-        }
-    }
-    let Some(hint) = hint_tet else {
+    let Some(mut domain) = Domain::of(fm, params.seed_clearance) else {
         return Vec::new();
     };
-    let verts: Vec<usize> = (0..used.len()).filter(|&v| used[v]).collect();
-    let mut sizes: Vec<f64> = verts.iter().map(|&v| fm.h[v]).collect();
-    if sizes.is_empty() {
-        return Vec::new();
-    }
-    let mid = sizes.len() / 2;
-    let h_med = *sizes.select_nth_unstable_by(mid, f64::total_cmp).1;
-    let pts = mesh.points();
-    let (lo, hi) = verts.iter().fold(
-        (Point::splat(f64::MAX), Point::splat(f64::MIN)),
-        |(lo, hi), &v| (lo.min(pts[v]), hi.max(pts[v])),
-    );
-    let extent = hi - lo;
-    let mut step = params.seed_spacing * h_med;
-    let count = |s: f64| {
-        let n = (extent / s).floor() + Point::ONE;
-        n.x * n.y * n.z
-    };
-    if !(step > 0.0 && step.is_finite()) {
-        return Vec::new();
-    }
-    while count(step) > MAX_CANDIDATES as f64 {
-        step *= 1.25;
-    }
-    let n = ((extent / step).floor() + Point::ONE).as_uvec3();
-    // The lattice centred in the box.
-    let origin = lo + (extent - (n.as_dvec3() - Point::ONE) * step) * 0.5;
-    let mut out = Vec::new();
-    let mut hint_size = 0u32;
-    for k in 0..n.z {
-        for j in 0..n.y {
-            for i in 0..n.x {
-                let p =
-                    origin + (Point::new(i as f64, j as f64, k as f64) + jitter(i, j, k)) * step;
-                let h = field.size(p, &mut hint_size);
-                if p.is_finite() && h.is_finite() && h > 0.0 {
-                    out.push(Candidate {
-                        p,
-                        h,
-                        k2: hint,
-                        layer: 0,
-                        delta_f: params.seed_clearance,
-                        delta_v: params.seed_clearance,
-                    });
-                }
-            }
+    // Levels from the smallest vertex size to the largest.
+    let lo_k = ((domain.h_min / domain.h_med).ln() / LEVEL_RATIO.ln()).round() as i32;
+    let hi_k = ((domain.h_max / domain.h_med).ln() / LEVEL_RATIO.ln()).round() as i32;
+    let mut levels = Vec::new();
+    for k in lo_k.max(-16)..=hi_k.min(16) {
+        let h_ref = domain.h_med * LEVEL_RATIO.powi(k);
+        let seeds = level(fm, &domain, field, params, h_ref);
+        // The next levels keep the clearance from this one's seeds too.
+        for c in &seeds {
+            domain.near.add_vertex(c.p, c.h);
         }
+        levels.push(seeds);
     }
-    out
+    levels.retain(|l: &Vec<Candidate>| !l.is_empty());
+    levels
 }
 
-/// A pseudo-random offset in `[-JITTER, JITTER]^3` for lattice point `(i, j, k)`: a
-/// regular lattice is cospherical eight points at a time, and the kernel's choices
-/// among near-cospherical points make needlessly large cavities.
-fn jitter(i: u32, j: u32, k: u32) -> Point {
-    let key = (i as u64) << 42 ^ (j as u64) << 21 ^ k as u64;
+/// The domain's vertices, their sizes and box, and a grid of them at the clearance.
+struct Domain {
+    lo: Point,
+    hi: Point,
+    h_min: f64,
+    h_med: f64,
+    h_max: f64,
+    hint: u32,
+    near: Grid,
+}
+
+impl Domain {
+    fn of(fm: &FieldMesh, clearance: f64) -> Option<Domain> {
+        let mesh = &fm.mesh;
+        let mut used = vec![false; fm.h.len()];
+        let mut hint = None;
+        for t in 0..mesh.num_slots() as u32 {
+            if fm.cons.region[t as usize] != 0 && mesh.is_alive(TetId(t)) {
+                hint.get_or_insert(t);
+                for v in mesh.raw_tet(t) {
+                    if let Some(u) = used.get_mut(v as usize) {
+                        *u = true;
+                    }
+                }
+            }
+        }
+        let verts: Vec<usize> = (0..used.len()).filter(|&v| used[v]).collect();
+        let mut sizes: Vec<f64> = verts.iter().map(|&v| fm.h[v]).collect();
+        if sizes.is_empty() || sizes.iter().any(|h| !(h.is_finite() && *h > 0.0)) {
+            return None;
+        }
+        let n = sizes.len();
+        let h_med = *sizes.select_nth_unstable_by(n / 2, f64::total_cmp).1;
+        let h_max = sizes.iter().copied().fold(0.0, f64::max);
+        // Not the smallest size: the interior sizes interpolate the boundary's, and a
+        // lattice finer than a few surface triangles' size would be evaluated in vain.
+        let h_min = *sizes
+            .select_nth_unstable_by((n - 1) * LOW_PERCENTILE / 100, f64::total_cmp)
+            .1;
+        let h_small = *sizes
+            .select_nth_unstable_by((n - 1) * 99 / 100, f64::total_cmp)
+            .1;
+        let pts = mesh.points();
+        let (lo, hi) = verts.iter().fold(
+            (Point::splat(f64::MAX), Point::splat(f64::MIN)),
+            |(lo, hi), &v| (lo.min(pts[v]), hi.max(pts[v])),
+        );
+        let bounds = Aabb { min: lo, max: hi };
+        let mut near = Grid::with_sizes(
+            h_small,
+            h_max,
+            clearance,
+            clearance,
+            Some((bounds, verts.len())),
+        );
+        for &v in &verts {
+            near.add_vertex(pts[v], fm.h[v]);
+        }
+        Some(Domain {
+            lo,
+            hi,
+            h_min,
+            h_med,
+            h_max,
+            hint: hint?,
+            near,
+        })
+    }
+}
+
+/// The candidates of the lattice level of size `h_ref`.
+fn level(
+    fm: &FieldMesh,
+    domain: &Domain,
+    field: &dyn SizeField,
+    params: &FrontParams,
+    h_ref: f64,
+) -> Vec<Candidate> {
+    let extent = domain.hi - domain.lo;
+    let step = params.seed_spacing * h_ref;
+    let n = (extent / step).floor() + Point::ONE;
+    if !(step > 0.0 && step.is_finite()) || 2.0 * n.x * n.y * n.z > MAX_CANDIDATES as f64 {
+        return Vec::new();
+    }
+    let n = n.as_uvec3();
+
+    // The lattice centred in the box.
+    let origin = domain.lo + (extent - (n.as_dvec3() - Point::ONE) * step) * 0.5;
+    let band = LEVEL_RATIO.sqrt();
+    // Slices of the lattice in parallel, each with its own walks (deterministic: the
+    // slices are fixed, whatever the threads).
+    let slices: Vec<Vec<Candidate>> = (0..n.z)
+        .into_par_iter()
+        .map(|k| {
+            let mut out = Vec::new();
+            let mut hint = 0u32;
+            let mut locator = Kernel::new();
+            let mut inside = |p: Point| match locator.locate_next(&fm.mesh, p) {
+                Location::InTet(t) => fm.cons.region.get(t.index()).is_some_and(|&r| r != 0),
+                _ => false,
+            };
+            for j in 0..n.y {
+                for i in 0..n.x {
+                    for half in [0.0, 0.5] {
+                        let at = Point::new(i as f64, j as f64, k as f64) + half;
+                        let p = origin + (at + jitter(at)) * step;
+                        let h = field.size(p, &mut hint);
+                        let fits = h * band >= h_ref && h < h_ref * band;
+                        let mut uniform = || {
+                            [Point::X, Point::Y, Point::Z].iter().all(|&e| {
+                                [p + e * step, p - e * step].iter().all(|&q| {
+                                    (field.size(q, &mut hint) - h).abs() <= MAX_VARIATION * h
+                                })
+                            })
+                        };
+                        if p.is_finite()
+                            && fits
+                            && !domain.near.any_close(p, h)
+                            && uniform()
+                            && inside(p)
+                        {
+                            out.push(Candidate {
+                                p,
+                                h,
+                                k2: domain.hint,
+                                layer: 0,
+                                delta_f: params.seed_clearance,
+                                delta_v: params.seed_clearance,
+                                exempt_from: u32::MAX,
+                            });
+                        }
+                    }
+                }
+            }
+            out
+        })
+        .collect();
+    slices.concat()
+}
+
+/// A pseudo-random offset in `[-JITTER, JITTER]^3` for the lattice point at `at`: in a
+/// partly inserted lattice the cube corners are cospherical eight at a time, where
+/// the exact predicates would decide every test.
+fn jitter(at: Point) -> Point {
+    let key = (at.x * 2.0) as u64 ^ ((at.y * 2.0) as u64) << 21 ^ ((at.z * 2.0) as u64) << 42;
     let mut rng = SplitMix64::new(key ^ 0x9E37_79B9_7F4A_7C15);
     let mut next = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0;
     Point::new(next(), next(), next()) * JITTER
 }
 
 /// Largest offset of a seed from its lattice point, in lattice steps.
-const JITTER: f64 = 0.25;
+const JITTER: f64 = 0.03;
