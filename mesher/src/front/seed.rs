@@ -173,6 +173,8 @@ fn level(
         .map(|k| {
             let mut out = Vec::new();
             let mut hint = 0u32;
+            // One walk per neighbour direction: each follows the lattice order.
+            let mut hints = [0u32; 6];
             let mut locator = Kernel::new();
             let mut inside = |p: Point| match locator.locate_next(&fm.mesh, p) {
                 Location::InTet(t) => fm.cons.region.get(t.index()).is_some_and(|&r| r != 0),
@@ -186,10 +188,16 @@ fn level(
                         let h = field.size(p, &mut hint);
                         let fits = h * band >= h_ref && h < h_ref * band;
                         let mut uniform = || {
-                            [Point::X, Point::Y, Point::Z].iter().all(|&e| {
-                                [p + e * step, p - e * step].iter().all(|&q| {
-                                    (field.size(q, &mut hint) - h).abs() <= MAX_VARIATION * h
-                                })
+                            let dirs = [
+                                Point::X,
+                                Point::Y,
+                                Point::Z,
+                                -Point::X,
+                                -Point::Y,
+                                -Point::Z,
+                            ];
+                            dirs.iter().zip(hints.iter_mut()).all(|(&e, hint)| {
+                                (field.size(p + e * step, hint) - h).abs() <= MAX_VARIATION * h
                             })
                         };
                         if p.is_finite()

@@ -122,12 +122,13 @@ impl Background {
         for step in 0..MAX_WALK {
             visited = step + 1;
             let q = self.mesh.tet_points(crate::tetmesh::TetId(t));
-            // Clearly inside (most queries, whose hint is the last tet): the inexact
+            // Clearly inside the hint (most queries: nearby points in turn): the inexact
             // coordinates settle it without the exact orientations.
-            let l = barycentric(&q, p);
-            if l.iter().all(|&x| x >= CLEARLY_INSIDE) {
-                *hint = t;
-                return (t, l, visited);
+            if step == 0 {
+                let l = barycentric(&q, p);
+                if l.iter().all(|&x| x >= CLEARLY_INSIDE) {
+                    return (t, l, visited);
+                }
             }
             // Across a face that `p` lies beyond (exact orientation), the faces tried in
             // random order, never back through the face just crossed (module doc). The
