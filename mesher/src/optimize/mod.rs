@@ -137,7 +137,10 @@ pub fn optimize(domain: &mut Domain, options: &OptimizeOptions) -> OptimizeRepor
     let region = std::mem::take(&mut domain.region);
     let fixed = std::mem::take(&mut domain.fixed);
     let mut ops = Ops::new(Local::new(mesh), locks, region, fixed);
-    let (before, worst_before) = histogram(&ops);
+    // One scan per pass gives the bad tets for the next pass and the worst after this
+    // one.
+    let (mut bad, before, worst_before) = scan(&ops, options.bad_quality);
+    let (mut after, mut worst_after) = (before.clone(), worst_before);
     let mut passes = Vec::new();
     // Tets (sorted vertices) that no operation improved, with the clock then: not
     // tried again by the main passes, and by the polishing passes only once something
@@ -145,8 +148,16 @@ pub fn optimize(domain: &mut Domain, options: &OptimizeOptions) -> OptimizeRepor
     let mut failed: FastMap<[u32; 4], u32> = FastMap::default();
     for _ in 0..options.max_passes {
         let tp = Instant::now();
-        let mut stats = pass(&mut ops, options, options.bad_quality, &mut failed, false);
-        stats.worst = histogram(&ops).1;
+        let mut stats = pass(
+            &mut ops,
+            options,
+            options.bad_quality,
+            &mut failed,
+            false,
+            bad,
+        );
+        (bad, after, worst_after) = scan(&ops, options.bad_quality);
+        stats.worst = worst_after;
         stats.seconds = tp.elapsed().as_secs_f64();
         let done = stats.edge_removals + stats.face_flips + stats.smoothed + stats.inserted;
         passes.push(stats);
@@ -158,15 +169,13 @@ pub fn optimize(domain: &mut Domain, options: &OptimizeOptions) -> OptimizeRepor
     // operations around it since may have opened a way (re-optimising armadillo's output
     // from scratch took its worst Q_K from 112 to 16). Retry the worst ones only, and
     // only where something changed since they failed.
-    let mut worst = match passes.last() {
-        Some(p) => p.worst,
-        None => histogram(&ops).1,
-    };
+    let mut worst = worst_after;
     for _ in 0..options.polish_passes {
         let tp = Instant::now();
         let bar = options.bad_quality.max(worst * options.polish_fraction);
-        let mut stats = pass(&mut ops, options, bar, &mut failed, true);
-        stats.worst = histogram(&ops).1;
+        let mut stats = pass(&mut ops, options, bar, &mut failed, true, bad);
+        (bad, after, worst_after) = scan(&ops, options.bad_quality);
+        stats.worst = worst_after;
         stats.seconds = tp.elapsed().as_secs_f64();
         let improved = stats.worst < worst;
         worst = stats.worst;
@@ -175,7 +184,6 @@ pub fn optimize(domain: &mut Domain, options: &OptimizeOptions) -> OptimizeRepor
             break;
         }
     }
-    let (after, worst_after) = histogram(&ops);
     domain.mesh = ops.l.mesh;
     domain.region = ops.region;
     domain.fixed = ops.fixed;
@@ -199,15 +207,8 @@ fn pass(
     bar: f64,
     failed: &mut FastMap<[u32; 4], u32>,
     retry_changed: bool,
+    mut bad: Vec<Bad>,
 ) -> PassStats {
-    let mut bad: Vec<(f64, u32, [u32; 4])> = ops
-        .l
-        .mesh
-        .finite_tets()
-        .filter(|t| ops.region_of(t.0) != 0)
-        .map(|t| (ops.tet_quality(t.0), t.0, ops.l.tet(t.0)))
-        .filter(|b| b.0 > options.bad_quality)
-        .collect();
     if bar > options.bad_quality {
         let mut near = vec![false; ops.l.mesh.num_vertices()];
         for b in bad.iter().filter(|b| b.0 > bar) {
@@ -279,10 +280,14 @@ fn improve(
     false
 }
 
-/// The `Q_K` histogram of the domain's tets and the worst `Q_K`.
-fn histogram(ops: &Ops) -> (Histogram, f64) {
+/// A tet worse than the bad quality: `Q_K`, slot, vertices.
+type Bad = (f64, u32, [u32; 4]);
+
+/// The domain's tets worse than `bad_quality`, the `Q_K` histogram and the worst `Q_K`.
+fn scan(ops: &Ops, bad_quality: f64) -> (Vec<Bad>, Histogram, f64) {
     let mut h = Histogram::quality();
     let mut worst: f64 = 1.0;
+    let mut bad = Vec::new();
     for t in ops.l.mesh.finite_tets() {
         if ops.region_of(t.0) == 0 {
             continue;
@@ -290,8 +295,11 @@ fn histogram(ops: &Ops) -> (Histogram, f64) {
         let q = ops.tet_quality(t.0);
         h.add(q);
         worst = worst.max(q);
+        if q > bad_quality {
+            bad.push((q, t.0, ops.l.tet(t.0)));
+        }
     }
-    (h, worst)
+    (bad, h, worst)
 }
 
 #[cfg(test)]
