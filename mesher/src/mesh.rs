@@ -312,6 +312,13 @@ impl Meshed {
     /// Normalised lengths of the interior edges with respect to the vertex sizes.
     pub fn edge_band(&self) -> EdgeBand {
         let (vm, sizes) = self.volume_and_sizes();
+        EdgeBand::of(&vm, &sizes)
+    }
+}
+
+impl EdgeBand {
+    /// The interior edges of `vm` (not on its triangles) with `sizes` at its vertices.
+    pub fn of(vm: &VolumeMesh, sizes: &[f64]) -> EdgeBand {
         let surf = unique_triangle_edges(&vm.triangles);
         let mut edges = 0usize;
         let (mut inside, mut sum) = (0usize, 0.0);

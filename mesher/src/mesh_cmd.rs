@@ -55,13 +55,13 @@ pub fn mesh(args: &MeshArgs) -> Result<ExitCode> {
             .validate(false)
             .context("the mesh failed validation")?;
     }
-    let vm = meshed.to_volume_mesh();
+    let (vm, sizes) = meshed.volume_and_sizes();
     if let Some(out) = &args.output {
         mesher::io::write_volume(out, &vm).with_context(|| format!("writing {}", out.display()))?;
     }
     let q_t = mesher::quality::target_quality(&surface.vertices, &surface.triangles);
     let summary = mesher::quality::summarize(&vm, Some(q_t.q_t));
-    let band = meshed.edge_band();
+    let band = mesher::mesh::EdgeBand::of(&vm, &sizes);
     if let Some(path) = &args.stats {
         let mut v = serde_json::to_value(&report)?;
         v["iterations"] = serde_json::to_value(&report.front.iterations)?;

@@ -5,6 +5,7 @@
 //! Statistics stream through [`SummaryBuilder`] (one [`TetMeasures`] per tet, no
 //! allocation per tet; only the `Q_K` values are kept, for the median).
 
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::geom::predicates::{orient3d, Orientation};
@@ -125,6 +126,22 @@ impl SummaryBuilder {
         self.histogram.add(q);
     }
 
+    /// Adds the tets of `other` (built with the same `q_t`).
+    pub fn merge(&mut self, other: SummaryBuilder) {
+        self.q.extend_from_slice(&other.q);
+        self.worst = self.worst.max(other.worst);
+        self.finite_sum += other.finite_sum;
+        self.finite_count += other.finite_count;
+        self.well_shaped += other.well_shaped;
+        self.worse_than_target += other.worse_than_target;
+        self.min_dihedral = self.min_dihedral.min(other.min_dihedral);
+        self.max_dihedral = self.max_dihedral.max(other.max_dihedral);
+        self.min_radius_ratio = self.min_radius_ratio.min(other.min_radius_ratio);
+        self.inverted += other.inverted;
+        self.degenerate += other.degenerate;
+        self.histogram.merge(&other.histogram);
+    }
+
     /// The summary of every tet added.
     pub fn finish(mut self) -> QualitySummary {
         let count = self.q.len() as u64;
@@ -175,8 +192,27 @@ pub fn median(v: &mut [f64]) -> f64 {
 /// # Panics
 /// If a tet refers to a vertex index out of range.
 pub fn summarize(mesh: &VolumeMesh, q_t: Option<f64>) -> QualitySummary {
-    summarize_tets((0..mesh.tets.len()).map(|t| mesh.tet_points(t)), q_t)
+    // Fixed chunks merged in order: the same sums whatever the threads.
+    let n = mesh.tets.len();
+    let parts: Vec<SummaryBuilder> = (0..n.div_ceil(SUMMARY_CHUNK))
+        .into_par_iter()
+        .map(|c| {
+            let mut b = SummaryBuilder::new(q_t);
+            for t in c * SUMMARY_CHUNK..n.min((c + 1) * SUMMARY_CHUNK) {
+                b.add_points(&mesh.tet_points(t));
+            }
+            b
+        })
+        .collect();
+    let mut all = SummaryBuilder::new(q_t);
+    for b in parts {
+        all.merge(b);
+    }
+    all.finish()
 }
+
+/// Tets per parallel task of [`summarize`].
+const SUMMARY_CHUNK: usize = 1 << 16;
 
 /// Quality summary of tets given by their corner points.
 pub fn summarize_tets(
