@@ -9,8 +9,8 @@
 //!   of an unacceptable tet counts too: the other side belongs to another region).
 //! - One optimal point per front face ([`point`]), kept only if strictly inside the
 //!   circumsphere of the unacceptable tet `K2` (exact `insphere`), and points of deeper
-//!   layers along the face normal (not in the paper: fewer iterations on deep domains,
-//!   see [`DEFAULT_LAYERS`]). All are filtered ([`filter`]) against the kept points
+//!   layers along the face normal, inside that circumsphere too (not in the paper: fewer
+//!   iterations on deep domains, see [`DEFAULT_LAYERS`]). All are filtered ([`filter`]) against the kept points
 //!   (`delta_f`) and the vertices of `K2` (`delta_v`; optionally those of every
 //!   unacceptable tet).
 //! - Insertion by the constrained kernel ([`crate::delaunay::Kernel::constrained_cavity`]):
@@ -62,8 +62,9 @@ pub const DEFAULT_DELTA: f64 = 1.6;
 /// paper). A front advances about one layer of tets per iteration, so with one point
 /// per face the iterations grow with the depth of the domain in units of the size:
 /// sphere-10k 35, armadillo 52, bunny00 and sphere-100k past the bound of 60. With
-/// three layers and the defaults here: sphere-10k 21, armadillo 32. Deeper points whose
-/// cavity reaches the surface are dropped (the boundary faces place that layer).
+/// three layers and the seed lattices ([`seed`]): sphere-10k 5, armadillo 11, bunny00
+/// 25, sphere-100k 7. Deeper points whose cavity reaches the surface are dropped (the
+/// boundary faces place that layer).
 pub const DEFAULT_LAYERS: usize = 3;
 
 /// Default filtration distances `delta_f` and `delta_v` (normalised): 0.9, not
@@ -120,8 +121,9 @@ pub struct FrontParams {
     /// box-with-hole (7.80 -> 3.90) with the paper's parameters; off by default: it
     /// moves the tet count of scaled copies of the level-2 sphere by 2 %.
     pub filter_all_vertices: bool,
-    /// Points proposed per front face: the optimal point, then `layers - 1` more
-    /// along the face's normal, one regular-tet height apart (deeper layers).
+    /// Points proposed per front face: the optimal point, then up to `layers - 1` more
+    /// along the face's normal, one regular-tet height apart, while inside `K2`'s
+    /// circumsphere (deeper layers).
     pub layers: usize,
     /// Cube side of the seed lattices ([`seed`]) in their level's size; infinite for
     /// none (the paper's front alone).
@@ -493,11 +495,18 @@ fn propose(
                     delta_v: params.delta_v.min(bound),
                     exempt_from: u32::MAX,
                 });
+                let k2 = q;
                 let mut prev = (p, hp);
                 for layer in 1..params.layers.min(16) as u8 {
                     let q = prev.0 + n * (prev.1 * params.point.length * REGULAR_HEIGHT);
                     let hq = field.size(q, &mut hint);
                     if !(q.is_finite() && hq > 0.0 && hq.is_finite()) {
+                        break;
+                    }
+                    // Like the optimal point, strictly inside K2's circumsphere: beyond
+                    // it the mesh is refined already, and the kernel would refuse the
+                    // point after building its cavity (bunny00: 18.1 s -> 13.4 s).
+                    if insphere(k2[0], k2[1], k2[2], k2[3], q) != Sphere::Inside {
                         break;
                     }
                     out.push(Candidate {
