@@ -22,8 +22,9 @@
 //!   their tets whose edges fit are accepted at once, so the fronts start from the
 //!   surface and from the lattice and fill the gap between them.
 //! - Remedial rule (§5.2): an unacceptable tet that survives an iteration becomes
-//!   acceptable ([`Remedial`] chooses which ones), which guarantees convergence; the loop
-//!   is also bounded by `max_iterations`.
+//!   acceptable ([`Remedial`] chooses which ones; one with an edge over twice `delta`
+//!   only after three tries), which guarantees convergence; the loop is also bounded by
+//!   `max_iterations`.
 
 pub mod filter;
 pub mod point;
@@ -239,6 +240,16 @@ struct Candidate {
     exempt_from: u32,
 }
 
+/// A tet with an edge longer than this many times `delta` is grossly unacceptable:
+/// the remedial rule accepts it only after [`GROSS_TRIES`] iterations behind a front
+/// face. Accepted at once, such a tet stays (fandisk-in-box: a tet from the fandisk's
+/// top face to a box corner, Q_K 265, when the deeper-layer points had to lie in `K2`'s
+/// circumsphere; 16.4 with three tries).
+const GROSS_FACTOR: f64 = 2.0;
+
+/// Iterations a grossly unacceptable tet is tried before the remedial rule applies.
+const GROSS_TRIES: u8 = 3;
+
 /// Front faces handled per parallel task (fixed, so results do not depend on threads).
 const CHUNK: usize = 256;
 
@@ -302,6 +313,7 @@ pub fn advance(
     let mut ages = Ages {
         born: vec![0u32; slots],
         tried: vec![0u32; slots],
+        tries: vec![0u8; slots],
     };
     let mut kernel = Kernel::new();
     if let Some(bb) = crate::geom::Aabb::of_points(fm.mesh.points()) {
@@ -343,6 +355,9 @@ pub fn advance(
             ..Iteration::default()
         };
         for &(t, _) in &faces {
+            if ages.tried[t as usize] != it {
+                ages.tries[t as usize] = ages.tries[t as usize].saturating_add(1);
+            }
             ages.tried[t as usize] = it;
         }
         let cands = propose(fm, field, params, &faces);
@@ -402,11 +417,12 @@ fn by_layer_then_hilbert(cands: &[Candidate]) -> Vec<Candidate> {
     order.into_iter().map(|i| cands[i as usize]).collect()
 }
 
-/// Per tet slot: the iteration that made the tet, and the last one in which it was
-/// behind a front face.
+/// Per tet slot: the iteration that made the tet, the last one in which it was
+/// behind a front face, and in how many iterations it was.
 struct Ages {
     born: Vec<u32>,
     tried: Vec<u32>,
+    tries: Vec<u8>,
 }
 
 fn grow(accept: &mut Vec<bool>, ages: &mut Ages, n: usize) {
@@ -414,6 +430,7 @@ fn grow(accept: &mut Vec<bool>, ages: &mut Ages, n: usize) {
         accept.resize(n, false);
         ages.born.resize(n, 0);
         ages.tried.resize(n, 0);
+        ages.tries.resize(n, 0);
     }
 }
 
@@ -430,6 +447,7 @@ fn admit(
     grow(accept, ages, slots);
     for &t in kernel.new_tets() {
         ages.born[t as usize] = it;
+        ages.tries[t as usize] = 0;
         accept[t as usize] = false;
         active.push(t);
     }
@@ -678,7 +696,16 @@ fn classify(
                 let ok = if ages.born[tu] == it {
                     acceptable(fm, field, params, t, &mut hint)
                 } else {
-                    params.remedial == Remedial::All || ages.tried[tu] == it
+                    // A grossly unacceptable tet gets a few tries before the remedial
+                    // rule accepts it: the points around it may make room meanwhile.
+                    let mut gross = || {
+                        let wide = FrontParams {
+                            delta: params.delta * GROSS_FACTOR,
+                            ..*params
+                        };
+                        ages.tries[tu] < GROSS_TRIES && !acceptable(fm, field, &wide, t, &mut hint)
+                    };
+                    (params.remedial == Remedial::All || ages.tried[tu] == it) && !gross()
                 };
                 out.push((t, ok));
             }
