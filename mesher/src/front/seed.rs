@@ -29,6 +29,10 @@ use rayon::prelude::*;
 /// Largest number of lattice points tried per level (a finer level is skipped).
 const MAX_CANDIDATES: usize = 1 << 23;
 
+/// Largest number of lattice points tried over all levels (the coarser levels left
+/// are skipped): a bound on the time of the lattices whatever the range of sizes.
+const MAX_TOTAL: usize = 1 << 24;
+
 /// Ratio between the sizes of consecutive lattice levels: a point belongs to the
 /// level whose size is within a factor `sqrt(LEVEL_RATIO)` of its own.
 pub const LEVEL_RATIO: f64 = 1.5;
@@ -64,8 +68,17 @@ pub(super) fn candidates(
     let lo_k = ((domain.h_min / domain.h_med).ln() / LEVEL_RATIO.ln()).round() as i32;
     let hi_k = ((domain.h_max / domain.h_med).ln() / LEVEL_RATIO.ln()).round() as i32;
     let mut levels = Vec::new();
+    let mut tried = 0.0;
     for k in lo_k.max(-16)..=hi_k.min(16) {
         let h_ref = domain.h_med * LEVEL_RATIO.powi(k);
+        let points = lattice_points(&domain, params.seed_spacing * h_ref);
+        if points > MAX_CANDIDATES as f64 {
+            continue;
+        }
+        tried += points;
+        if tried > MAX_TOTAL as f64 {
+            break;
+        }
         let seeds = level(fm, &domain, field, params, h_ref);
         // The next levels keep the clearance from this one's seeds too.
         for c in &seeds {
@@ -147,6 +160,16 @@ impl Domain {
     }
 }
 
+/// Points of the BCC lattice of cube side `step` over the domain's box (infinite for
+/// an unusable step).
+fn lattice_points(domain: &Domain, step: f64) -> f64 {
+    if !(step > 0.0 && step.is_finite()) {
+        return f64::INFINITY;
+    }
+    let n = ((domain.hi - domain.lo) / step).floor() + Point::ONE;
+    2.0 * n.x * n.y * n.z
+}
+
 /// The candidates of the lattice level of size `h_ref`.
 fn level(
     fm: &FieldMesh,
@@ -157,11 +180,10 @@ fn level(
 ) -> Vec<Candidate> {
     let extent = domain.hi - domain.lo;
     let step = params.seed_spacing * h_ref;
-    let n = (extent / step).floor() + Point::ONE;
-    if !(step > 0.0 && step.is_finite()) || 2.0 * n.x * n.y * n.z > MAX_CANDIDATES as f64 {
+    if lattice_points(domain, step) > MAX_CANDIDATES as f64 {
         return Vec::new();
     }
-    let n = n.as_uvec3();
+    let n = ((extent / step).floor() + Point::ONE).as_uvec3();
 
     // The lattice centred in the box.
     let origin = domain.lo + (extent - (n.as_dvec3() - Point::ONE) * step) * 0.5;
