@@ -287,18 +287,7 @@ impl Grid {
         {
             return false;
         }
-        let near = |k: u32| {
-            let ((q, hq), limit) = if k & VERTEX_BIT != 0 {
-                (self.vertices[(k & !VERTEX_BIT) as usize], delta_v)
-            } else {
-                (self.kept[k as usize], delta_f)
-            };
-            close(p, q, h, hq, limit)
-        };
-        let d = self.delta_f.max(self.delta_v);
-        if self.small.any_within(p, d * h.max(self.h_small), near)
-            || self.big.any_within(p, d * h.max(self.h_max), near)
-        {
+        if self.close_to_any(p, h, delta_f, delta_v) {
             return false;
         }
         let id = self.kept.len() as u32;
@@ -307,14 +296,19 @@ impl Grid {
         true
     }
 
-    /// True when a kept point is closer than `delta_f` or a registered vertex closer
-    /// than `delta_v` to `p` (size `h`); nothing is kept.
+    /// True when a kept point is closer than the grid's `delta_f` or a registered
+    /// vertex closer than its `delta_v` to `p` (size `h`); nothing is kept.
     pub fn any_close(&self, p: Point, h: f64) -> bool {
+        self.close_to_any(p, h, self.delta_f, self.delta_v)
+    }
+
+    /// The search of the cells within reach of `p` (the grid's larger distance).
+    fn close_to_any(&self, p: Point, h: f64, delta_f: f64, delta_v: f64) -> bool {
         let near = |k: u32| {
             let ((q, hq), limit) = if k & VERTEX_BIT != 0 {
-                (self.vertices[(k & !VERTEX_BIT) as usize], self.delta_v)
+                (self.vertices[(k & !VERTEX_BIT) as usize], delta_v)
             } else {
-                (self.kept[k as usize], self.delta_f)
+                (self.kept[k as usize], delta_f)
             };
             close(p, q, h, hq, limit)
         };

@@ -591,7 +591,7 @@ fn filtrate(
         bounds.map(|b| (b, cands.len() + verts.len())),
     );
     for &v in &verts {
-        grid.add_vertex(fm.mesh.points()[v], fm.h[v]);
+        grid.add_vertex(pts[v], fm.h[v]);
     }
     let mut out = Vec::with_capacity(cands.len());
     for c in cands {

@@ -170,7 +170,8 @@ fn lattice_points(domain: &Domain, step: f64) -> f64 {
     2.0 * n.x * n.y * n.z
 }
 
-/// The candidates of the lattice level of size `h_ref`.
+/// The candidates of the lattice level of size `h_ref` (whose [`lattice_points`] the
+/// caller has bounded).
 fn level(
     fm: &FieldMesh,
     domain: &Domain,
@@ -180,9 +181,6 @@ fn level(
 ) -> Vec<Candidate> {
     let extent = domain.hi - domain.lo;
     let step = params.seed_spacing * h_ref;
-    if lattice_points(domain, step) > MAX_CANDIDATES as f64 {
-        return Vec::new();
-    }
     let n = ((extent / step).floor() + Point::ONE).as_uvec3();
 
     // The lattice centred in the box.
