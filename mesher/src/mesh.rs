@@ -264,12 +264,17 @@ fn field_mesh(
         }
     }
     let mut hint = 0u32;
-    let h = mesh
+    let (h, hints) = mesh
         .points()
         .iter()
-        .map(|&p| field.size(p, &mut hint))
-        .collect();
-    FieldMesh { mesh, cons, h }
+        .map(|&p| (field.size(p, &mut hint), hint))
+        .unzip();
+    FieldMesh {
+        mesh,
+        cons,
+        h,
+        hint: hints,
+    }
 }
 
 /// Normalised edge lengths of the interior edges (not on the surface) of a meshed

@@ -171,7 +171,9 @@ fn lattice_points(domain: &Domain, step: f64) -> f64 {
 }
 
 /// The candidates of the lattice level of size `h_ref` (whose [`lattice_points`] the
-/// caller has bounded).
+/// caller has bounded). The sizes at all the lattice points come first (one walk per
+/// slice), so that the size variation to the six neighbours is read, not looked up
+/// again (bunny00: the seed lattices 2.5 s -> 1.35 s).
 fn level(
     fm: &FieldMesh,
     domain: &Domain,
@@ -182,43 +184,67 @@ fn level(
     let extent = domain.hi - domain.lo;
     let step = params.seed_spacing * h_ref;
     let n = ((extent / step).floor() + Point::ONE).as_uvec3();
-
-    // The lattice centred in the box.
+    let (nx, ny, nz) = (n.x as usize, n.y as usize, n.z as usize);
+    // The lattice centred in the box; `s` picks the cube corners (0) or centres (1).
     let origin = domain.lo + (extent - (n.as_dvec3() - Point::ONE) * step) * 0.5;
+    let at = |i: usize, j: usize, k: usize, s: usize| {
+        let a = Point::new(i as f64, j as f64, k as f64) + 0.5 * s as f64;
+        origin + (a + jitter(a)) * step
+    };
+    let index = |i: usize, j: usize, s: usize| (j * nx + i) * 2 + s;
+    // Slices in parallel, each with its own walks (deterministic: the slices are
+    // fixed, whatever the threads).
+    let sizes: Vec<(Vec<f64>, Vec<u32>)> = (0..nz)
+        .into_par_iter()
+        .map(|k| {
+            let mut hint = 0u32;
+            let (mut h, mut hints) = (Vec::with_capacity(nx * ny * 2), Vec::new());
+            hints.reserve(nx * ny * 2);
+            for j in 0..ny {
+                for i in 0..nx {
+                    for s in 0..2 {
+                        h.push(field.size(at(i, j, k, s), &mut hint));
+                        hints.push(hint);
+                    }
+                }
+            }
+            (h, hints)
+        })
+        .collect();
+    let size = |i: Option<usize>, j: Option<usize>, k: Option<usize>, s: usize| {
+        let (i, j, k) = (i?, j?, k?);
+        (i < nx && j < ny).then_some(())?;
+        sizes.get(k).map(|slice| slice.0[index(i, j, s)])
+    };
     let band = LEVEL_RATIO.sqrt();
-    // Slices of the lattice in parallel, each with its own walks (deterministic: the
-    // slices are fixed, whatever the threads).
-    let slices: Vec<Vec<Candidate>> = (0..n.z)
+    let slices: Vec<Vec<Candidate>> = (0..nz)
         .into_par_iter()
         .map(|k| {
             let mut out = Vec::new();
-            let mut hint = 0u32;
-            // One walk per neighbour direction: each follows the lattice order.
-            let mut hints = [0u32; 6];
             let mut locator = Kernel::new();
             let mut inside = |p: Point| match locator.locate_next(&fm.mesh, p) {
                 Location::InTet(t) => fm.cons.region.get(t.index()).is_some_and(|&r| r != 0),
                 _ => false,
             };
-            for j in 0..n.y {
-                for i in 0..n.x {
-                    for half in [0.0, 0.5] {
-                        let at = Point::new(i as f64, j as f64, k as f64) + half;
-                        let p = origin + (at + jitter(at)) * step;
-                        let h = field.size(p, &mut hint);
+            for j in 0..ny {
+                for i in 0..nx {
+                    for s in 0..2 {
+                        let (h, hint) = (sizes[k].0[index(i, j, s)], sizes[k].1[index(i, j, s)]);
+                        let p = at(i, j, k, s);
                         let fits = h * band >= h_ref && h < h_ref * band;
-                        let mut uniform = || {
-                            let dirs = [
-                                Point::X,
-                                Point::Y,
-                                Point::Z,
-                                -Point::X,
-                                -Point::Y,
-                                -Point::Z,
-                            ];
-                            dirs.iter().zip(hints.iter_mut()).all(|(&e, hint)| {
-                                (field.size(p + e * step, hint) - h).abs() <= MAX_VARIATION * h
-                            })
+                        // The size at the six neighbours (none past the lattice: no seed).
+                        let uniform = || {
+                            let (a, b, c) = (Some(i), Some(j), Some(k));
+                            [
+                                size(i.checked_sub(1), b, c, s),
+                                size(Some(i + 1), b, c, s),
+                                size(a, j.checked_sub(1), c, s),
+                                size(a, Some(j + 1), c, s),
+                                size(a, b, k.checked_sub(1), s),
+                                size(a, b, Some(k + 1), s),
+                            ]
+                            .iter()
+                            .all(|x| x.is_some_and(|x| (x - h).abs() <= MAX_VARIATION * h))
                         };
                         if p.is_finite()
                             && fits
@@ -234,6 +260,7 @@ fn level(
                                 delta_f: params.seed_clearance,
                                 delta_v: params.seed_clearance,
                                 exempt_from: u32::MAX,
+                                hint,
                             });
                         }
                     }
