@@ -120,6 +120,9 @@ struct MeshArgs {
     /// Bound on the optimisation passes over the bad tets.
     #[arg(long, default_value_t = mesher::optimize::OptimizeOptions::default().max_passes)]
     optimize_passes: usize,
+    /// The optimisation works on the tets with Q_K above this.
+    #[arg(long, default_value_t = mesher::optimize::OptimizeOptions::default().bad_quality)]
+    optimize_above: f64,
     /// Normalised edge lengths: from the end-point sizes, or piecewise along the
     /// background tets.
     #[arg(long, value_enum, default_value_t = Length::Endpoints)]
