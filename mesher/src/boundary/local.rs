@@ -147,6 +147,13 @@ impl Local {
         }
     }
 
+    /// Forgets vertex `v`, which no tet has any more (an edge collapse removed it).
+    pub fn drop_vertex(&mut self, v: u32) {
+        if let Some(t) = self.v2t.get_mut(v as usize) {
+            *t = u32::MAX;
+        }
+    }
+
     /// Coordinates of vertex `v`.
     #[inline]
     pub fn p(&self, v: u32) -> Point {

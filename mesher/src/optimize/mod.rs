@@ -1,5 +1,6 @@
 //! Mesh optimisation (paper §6): the worst tets first, each improved by the first local
-//! operation that lowers the worst `Q_K` around it: removal of one of its edges
+//! operation that lowers the worst `Q_K` around it: the collapse of one of its short
+//! edges (a free end onto the other), removal of one of its edges
 //! (ring re-triangulation, including the 3-2 and 4-4 flips), a 2-3 flip of one of its
 //! faces, the smoothing of one of its free vertices (§6.3.1), or, last, the insertion
 //! of a point (the cone from a new point over the tet and its neighbours: slivers whose
@@ -90,6 +91,8 @@ pub struct PassStats {
     pub edge_removals: u64,
     /// 2-3 flips.
     pub face_flips: u64,
+    /// Edges collapsed.
+    pub collapses: u64,
     /// Vertices moved.
     pub smoothed: u64,
     /// Points inserted.
@@ -169,7 +172,11 @@ pub fn optimize(domain: &mut Domain, options: &OptimizeOptions) -> OptimizeRepor
         (bad, after, worst_after) = scan(&ops, options.bad_quality);
         stats.worst = worst_after;
         stats.seconds = tp.elapsed().as_secs_f64();
-        let done = stats.edge_removals + stats.face_flips + stats.smoothed + stats.inserted;
+        let done = stats.edge_removals
+            + stats.face_flips
+            + stats.smoothed
+            + stats.inserted
+            + stats.collapses;
         passes.push(stats);
         if done == 0 {
             break;
@@ -265,6 +272,10 @@ fn improve(
     options: &OptimizeOptions,
     stats: &mut PassStats,
 ) -> bool {
+    if collapse_short_edge(ops, v) {
+        stats.collapses += 1;
+        return true;
+    }
     for (i, j) in [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)] {
         if ops.remove_edge(v[i], v[j]) {
             stats.edge_removals += 1;
@@ -289,6 +300,32 @@ fn improve(
     }
     false
 }
+
+/// Collapses one of the tet's short edges (shorter than [`SHORT_EDGE`] times its
+/// longest), shortest first, moving a free end onto the other end.
+fn collapse_short_edge(ops: &mut Ops, v: [u32; 4]) -> bool {
+    let p = v.map(|x| ops.l.p(x));
+    let mut edges: Vec<(f64, usize, usize)> = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)]
+        .iter()
+        .map(|&(i, j)| (p[i].distance(p[j]), i, j))
+        .collect();
+    let longest = edges.iter().map(|e| e.0).fold(0.0, f64::max);
+    edges.retain(|e| e.0 < SHORT_EDGE * longest);
+    edges.sort_by(|a, b| a.0.total_cmp(&b.0));
+    edges
+        .iter()
+        .any(|&(_, i, j)| ops.collapse(v[i], v[j]) || ops.collapse(v[j], v[i]))
+}
+
+/// An edge of a bad tet shorter than this fraction of its longest edge is collapsed
+/// first (paper §6's collapse of short edges; the optimiser has no sizes, so short is
+/// relative to the tet)
+/// (before the other operations). Against none, on one run each: couplingdown worst
+/// `Q_K` 20.0 -> 18.0, fandisk-in-box 17.7 -> 16.1, box-with-hole 3.59 -> 3.32,
+/// pinion 22.5 -> 24.2, the rest within 1 %, and 3-35 % fewer tets on the CAD models
+/// (points the front put too close to the surface). At 0.5: cheese 170 -> 194 and
+/// bunny00 2.78 -> 3.11; tried after the flips instead of first: fandisk-in-box 144.
+const SHORT_EDGE: f64 = 0.3;
 
 /// A tet worse than the bad quality: `Q_K`, slot, vertices.
 type Bad = (f64, u32, [u32; 4]);

@@ -47,9 +47,10 @@ pub(super) struct Ops {
     /// vertex clears its ball's entries ([`Self::smooth`]). The passes rescan every tet,
     /// and most of them are unchanged since the last scan.
     qcache: Vec<Cell<([u32; 4], f64)>>,
-    /// Edge removals (key: the edge as called) and vertex moves (key: `(v, v)`) that
-    /// failed, with the clock then ([`Self::unless_failed`]).
-    failed_ops: FastMap<(u32, u32), u32>,
+    /// Edge removals (key: the edge as called), vertex moves (key: `(v, v)`) and edge
+    /// collapses (key: `(kept, removed)`) that failed, with the clock then
+    /// ([`Self::unless_failed`]).
+    failed_ops: FastMap<(u32, u32, Kind), u32>,
 }
 
 /// A [`Ops::qcache`] entry that matches no tet.
@@ -129,7 +130,7 @@ impl Ops {
 
     /// `op()`, unless the operation `key` failed and nothing at its vertices has
     /// changed since (it would fail again); a failure is remembered.
-    fn unless_failed(&mut self, key: (u32, u32), op: impl FnOnce(&mut Self) -> bool) -> bool {
+    fn unless_failed(&mut self, key: (u32, u32, Kind), op: impl FnOnce(&mut Self) -> bool) -> bool {
         if let Some(&since) = self.failed_ops.get(&key) {
             if !self.l.stamps.changed_since(&[key.0, key.1], since) {
                 return false;
@@ -149,7 +150,7 @@ impl Ops {
     /// until a tet at one of its ends has changed. The key is the edge as called: the
     /// ring's orientation and start, so rounding at a tie, follow the order.
     pub fn remove_edge(&mut self, x: u32, y: u32) -> bool {
-        self.unless_failed((x, y), |o| o.remove_edge_now(x, y))
+        self.unless_failed((x, y, Kind::Remove), |o| o.remove_edge_now(x, y))
     }
 
     fn remove_edge_now(&mut self, x: u32, y: u32) -> bool {
@@ -236,7 +237,7 @@ impl Ops {
             return false;
         }
         // A neighbour's move changes the tets at `v` too.
-        self.unless_failed((v, v), |o| o.smooth_now(v, how))
+        self.unless_failed((v, v, Kind::Smooth), |o| o.smooth_now(v, how))
     }
 
     fn smooth_now(&mut self, v: u32, how: Smoothing) -> bool {
@@ -310,6 +311,62 @@ impl Ops {
         }
         self.l.set_point(v, old);
         false
+    }
+
+    /// Collapses the edge `xy` onto `x`: the free vertex `y` goes, and its ball becomes
+    /// the cone from `x` over the faces of its link that do not have `x` (paper §6's
+    /// edge collapse), if every new tet is positive and the ball's worst `Q_K` drops.
+    /// `y` is interior to one region (free vertices are off the boundary), so the
+    /// boundary is untouched. A collapse that failed is not tried again until a tet at
+    /// `x` or `y` has changed.
+    pub fn collapse(&mut self, x: u32, y: u32) -> bool {
+        if self.fixed.get(y as usize) != Some(&false) {
+            return false;
+        }
+        self.unless_failed((x, y, Kind::Collapse), |o| o.collapse_now(x, y))
+    }
+
+    fn collapse_now(&mut self, x: u32, y: u32) -> bool {
+        let mut ball = Vec::new();
+        self.l.star(y, &mut ball);
+        let Some(&first) = ball.first() else {
+            return false;
+        };
+        let r = self.region_of(first);
+        if r == 0
+            || ball
+                .iter()
+                .any(|&t| self.l.is_ghost(t) || self.region_of(t) != r)
+        {
+            return false;
+        }
+        let mut new: Vec<[u32; 4]> = Vec::with_capacity(ball.len());
+        let mut had_edge = false;
+        for &t in &ball {
+            let tv = self.l.tet(t);
+            if tv.contains(&x) {
+                had_edge = true;
+            } else {
+                new.push(tv.map(|v| if v == y { x } else { v }));
+            }
+        }
+        if !had_edge {
+            return false;
+        }
+        // The quality first (cheap, inexact), the exact orientations in `replace`.
+        let before = self.worst(&ball);
+        let pts = |t: &[u32; 4]| t.map(|v| self.l.p(v));
+        if new.iter().any(|t| signed_volume(&pts(t)) <= 0.0)
+            || max_until(new.iter().map(|t| q_k(&pts(t))), before) >= before
+        {
+            return false;
+        }
+        if self.l.replace(&ball, &new).is_err() {
+            return false;
+        }
+        self.l.drop_vertex(y);
+        self.claim(r);
+        true
     }
 
     /// Inserts a point in tet `t` (with its neighbours across faces that are not
@@ -488,6 +545,14 @@ impl Ops {
         let same = v != u32::MAX && t == self.l.p(v);
         (t.is_finite() && !same).then_some(t)
     }
+}
+
+/// The kinds of operation whose failures are remembered.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+enum Kind {
+    Remove,
+    Smooth,
+    Collapse,
 }
 
 /// A planned cone from a new point over a cavity's boundary faces.

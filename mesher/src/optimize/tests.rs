@@ -118,6 +118,46 @@ fn random_delaunay_meshes_improve_and_keep_their_boundary() {
 }
 
 #[test]
+fn a_near_duplicate_vertex_is_collapsed() {
+    // An interior point a thousandth of the spacing from another: its tets are needles
+    // that only a collapse removes.
+    let mut d = random_domain(200, 7);
+    let pts = d.mesh.points();
+    let near = pts[20] + Point::new(1e-3, 5e-4, -7e-4);
+    let mut all = pts[..pts.len()].to_vec();
+    all.push(near);
+    let tr = triangulate(&all, &DelaunayOptions::default()).expect("a triangulation");
+    let mut region = vec![0; tr.mesh.num_slots()];
+    for t in tr.mesh.tets() {
+        if !tr.mesh.is_ghost(t) {
+            region[t.index()] = 1;
+        }
+    }
+    let mut fixed = d.fixed.clone();
+    fixed.push(false);
+    d = Domain {
+        mesh: tr.mesh,
+        region,
+        constrained: d.constrained,
+        fixed,
+    };
+    let r = check("near duplicate", &mut d, &OptimizeOptions::default());
+    assert!(
+        r.passes.iter().map(|p| p.collapses).sum::<u64>() > 0,
+        "{r:?}"
+    );
+    let used = |v: u32| {
+        d.mesh
+            .finite_tets()
+            .any(|t| d.mesh.tet(t).iter().any(|x| x.0 == v))
+    };
+    assert!(
+        !(used(20) && used(all.len() as u32 - 1)),
+        "both ends are still there"
+    );
+}
+
+#[test]
 fn every_smoothing_variant_is_safe() {
     for how in [Smoothing::Optimal, Smoothing::Laplacian, Smoothing::Off] {
         let mut d = random_domain(200, 9);
