@@ -285,6 +285,10 @@ pub struct EdgeBand {
     pub edges: usize,
     /// Percentage with `0.6 <= l <= 1.67`.
     pub in_band_percent: f64,
+    /// Percentage below the band (too short).
+    pub below_percent: f64,
+    /// Percentage above the band (too long).
+    pub above_percent: f64,
     /// Mean normalised length.
     pub mean: f64,
 }
@@ -326,7 +330,7 @@ impl EdgeBand {
     pub fn of(vm: &VolumeMesh, sizes: &[f64]) -> EdgeBand {
         let surf = unique_triangle_edges(&vm.triangles);
         let mut edges = 0usize;
-        let (mut inside, mut sum) = (0usize, 0.0);
+        let (mut inside, mut below, mut sum) = (0usize, 0usize, 0.0);
         for e in unique_tet_edges(&vm.tets) {
             if surf.binary_search(&e).is_ok() {
                 continue;
@@ -337,6 +341,8 @@ impl EdgeBand {
             sum += l;
             if (0.6..=1.67).contains(&l) {
                 inside += 1;
+            } else if l < 0.6 {
+                below += 1;
             }
         }
         let pct = |k: usize| {
@@ -349,6 +355,8 @@ impl EdgeBand {
         EdgeBand {
             edges,
             in_band_percent: pct(inside),
+            below_percent: pct(below),
+            above_percent: pct(edges - inside - below),
             mean: if edges == 0 {
                 f64::NAN
             } else {
