@@ -317,12 +317,11 @@ fn collapse_short_edge(ops: &mut Ops, v: [u32; 4]) -> bool {
         .any(|&(_, i, j)| ops.collapse(v[i], v[j]) || ops.collapse(v[j], v[i]))
 }
 
-/// An edge of a bad tet shorter than this fraction of its longest edge is collapsed
-/// first (paper §6's collapse of short edges; the optimiser has no sizes, so short is
-/// relative to the tet)
-/// (before the other operations). Against none, on one run each: couplingdown worst
-/// `Q_K` 20.0 -> 18.0, fandisk-in-box 17.7 -> 16.1, box-with-hole 3.59 -> 3.32,
-/// pinion 22.5 -> 24.2, the rest within 1 %, and 3-35 % fewer tets on the CAD models
+/// An edge of a bad tet shorter than this fraction of its longest edge is collapsed,
+/// before the other operations are tried (paper §6's collapse of short edges; the
+/// optimiser has no sizes, so short is relative to the tet). Against none, on one run each: couplingdown worst
+/// `Q_K` 20.0 -> 17.8, fandisk-in-box 17.7 -> 15.9, box-with-hole 3.59 -> 3.32,
+/// pinion 22.5 -> 22.4, the rest within 1 %, and 3-35 % fewer tets on the CAD models
 /// (points the front put too close to the surface). At 0.5: cheese 170 -> 194 and
 /// bunny00 2.78 -> 3.11; tried after the flips instead of first: fandisk-in-box 144.
 const SHORT_EDGE: f64 = 0.3;

@@ -340,14 +340,16 @@ impl Ops {
         {
             return false;
         }
-        let mut new: Vec<[u32; 4]> = Vec::with_capacity(ball.len());
+        // The ball's link faces without `x` (each as its tet lists it: `y` on the
+        // positive side), coned from `x`.
+        let mut faces: Vec<[u32; 3]> = Vec::with_capacity(ball.len());
         let mut had_edge = false;
         for &t in &ball {
             let tv = self.l.tet(t);
             if tv.contains(&x) {
                 had_edge = true;
-            } else {
-                new.push(tv.map(|v| if v == y { x } else { v }));
+            } else if let Some(i) = tv.iter().position(|&v| v == y) {
+                faces.push(FACE_VERTICES[i].map(|k| tv[k]));
             }
         }
         if !had_edge {
@@ -355,12 +357,10 @@ impl Ops {
         }
         // The quality first (cheap, inexact), the exact orientations in `replace`.
         let before = self.worst(&ball);
-        let pts = |t: &[u32; 4]| t.map(|v| self.l.p(v));
-        if new.iter().any(|t| signed_volume(&pts(t)) <= 0.0)
-            || max_until(new.iter().map(|t| q_k(&pts(t))), before) >= before
-        {
+        if self.cone_score(&faces, self.l.p(x), before) >= before {
             return false;
         }
+        let new: Vec<[u32; 4]> = faces.iter().map(|f| [f[0], f[1], f[2], x]).collect();
         if self.l.replace(&ball, &new).is_err() {
             return false;
         }
@@ -430,15 +430,12 @@ impl Ops {
         let Some((_, k, mut cone)) = closest else {
             return false;
         };
-        let span = cone.span;
-        let before = cone.before;
         (cone.after, cone.p) = compass(
             |q| self.cone_score(&cone.faces, q, cone.after),
             cone.p,
             cone.after,
-            0.125 * span,
+            0.125 * cone.span,
         );
-        cone.before = before;
         cone.after < cone.before && self.cone_apply(&cavities[k].0, cone, r)
     }
 
