@@ -7,7 +7,6 @@
 use super::recover::Recovery;
 use crate::geom::predicates::Orientation;
 use crate::tetmesh::FACE_VERTICES;
-use crate::FastSet;
 
 /// Growth steps of a cone region.
 const MAX_GROW: usize = 32;
@@ -35,7 +34,8 @@ impl Recovery {
     /// [`Recovery::cone`] from `seed` alone (faces at `apex` stay on the boundary) or
     /// from `seed` plus the whole star of `apex`.
     fn cone_region(&mut self, apex: u32, seed: &[u32], keep: &[u32], with_star: bool) -> bool {
-        let Some((region, inside)) = self.grow_cone(apex, seed, with_star) else {
+        // The region's tets are marked in `cone_tets` (epoch marks: no set to build).
+        let Some(region) = self.grow_cone(apex, seed, with_star) else {
             return false;
         };
         // The region's boundary faces: those away from the apex become the new tets'
@@ -47,7 +47,7 @@ impl Recovery {
             let adj = self.l.adj(t);
             for i in 0..4 {
                 let u = crate::tetmesh::FaceRef::from_raw(adj[i]).tet().0;
-                if inside.contains(&u) {
+                if self.cone_tets.contains(u) {
                     continue;
                 }
                 let f = FACE_VERTICES[i].map(|k| v[k]);
@@ -62,15 +62,20 @@ impl Recovery {
             return false;
         }
         // Every vertex of the region must stay: the apex or on a boundary face.
-        let mut on_boundary: FastSet<u32> =
-            new.iter().flat_map(|t| t[..3].iter().copied()).collect();
-        on_boundary.insert(apex);
-        on_boundary.extend(at_apex.iter().flatten().copied());
-        if keep.iter().any(|k| !on_boundary.contains(k))
+        self.cone_verts.clear(self.l.mesh.num_vertices());
+        self.cone_verts.insert(apex);
+        for &x in new
+            .iter()
+            .flat_map(|t| &t[..3])
+            .chain(at_apex.iter().flatten())
+        {
+            self.cone_verts.insert(x);
+        }
+        if keep.iter().any(|&k| !self.cone_verts.contains(k))
             || region
                 .iter()
-                .any(|&t| self.l.tet(t).iter().any(|x| !on_boundary.contains(x)))
-            || !self.cone_keeps_locks(&region, &new, &at_apex)
+                .any(|&t| self.l.tet(t).iter().any(|&x| !self.cone_verts.contains(x)))
+            || !self.cone_keeps_locks(&region, apex, &new, &at_apex)
         {
             return false;
         }
@@ -112,22 +117,21 @@ impl Recovery {
         (edges, faces)
     }
 
-    /// The region of [`Recovery::cone_region`] and its set of tets: `seed` (plus the
-    /// star of `apex`), grown across every boundary face that `apex` does not see.
-    /// `None` when a budget, the hull or a constrained face stops the growth.
-    fn grow_cone(
-        &mut self,
-        apex: u32,
-        seed: &[u32],
-        with_star: bool,
-    ) -> Option<(Vec<u32>, FastSet<u32>)> {
+    /// The region of [`Recovery::cone_region`], its tets marked in `cone_tets`:
+    /// `seed` (plus the star of `apex`), grown across every boundary face that `apex`
+    /// does not see. `None` when a budget, the hull or a constrained face stops the
+    /// growth.
+    fn grow_cone(&mut self, apex: u32, seed: &[u32], with_star: bool) -> Option<Vec<u32>> {
         let mut region: Vec<u32> = Vec::new();
         if with_star {
             self.l.star(apex, &mut region);
         }
-        let mut inside: FastSet<u32> = region.iter().copied().collect();
+        self.cone_tets.clear(self.l.mesh.num_slots());
+        for &t in &region {
+            self.cone_tets.insert(t);
+        }
         for &t in seed {
-            if inside.insert(t) {
+            if self.cone_tets.insert(t) {
                 region.push(t);
             }
         }
@@ -145,7 +149,7 @@ impl Recovery {
                 let adj = self.l.adj(t);
                 for i in 0..4 {
                     let u = crate::tetmesh::FaceRef::from_raw(adj[i]).tet().0;
-                    if inside.contains(&u) {
+                    if self.cone_tets.contains(u) {
                         continue;
                     }
                     let f = FACE_VERTICES[i].map(|k| v[k]);
@@ -161,11 +165,11 @@ impl Recovery {
                 }
             }
             if grow.is_empty() {
-                return (region.len() <= MAX_CONE).then_some((region, inside));
+                return (region.len() <= MAX_CONE).then_some(region);
             }
             frontier.clear();
             for u in grow {
-                if inside.insert(u) {
+                if self.cone_tets.insert(u) {
                     region.push(u);
                     frontier.push(u);
                 }
@@ -174,74 +178,74 @@ impl Recovery {
             // lose it, so stop now (checked at doubling sizes: linear in all).
             if region.len() >= check_at {
                 check_at *= 2;
-                if self.buries_a_vertex(apex, &region, &inside) {
+                if self.buries_a_vertex(apex, &region) {
                     return None;
                 }
             }
         }
-        (region.len() <= MAX_CONE).then_some((region, inside))
+        (region.len() <= MAX_CONE).then_some(region)
     }
 
-    /// True when a vertex of `region` other than `apex` is on none of its boundary
-    /// faces (it is inside the region).
-    fn buries_a_vertex(&self, apex: u32, region: &[u32], inside: &FastSet<u32>) -> bool {
-        let mut on_boundary: FastSet<u32> = FastSet::default();
-        on_boundary.insert(apex);
+    /// True when a vertex of `region` (marked in `cone_tets`) other than `apex` is
+    /// on none of its boundary faces (it is inside the region).
+    fn buries_a_vertex(&mut self, apex: u32, region: &[u32]) -> bool {
+        self.cone_verts.clear(self.l.mesh.num_vertices());
+        self.cone_verts.insert(apex);
         for &t in region {
             let v = self.l.tet(t);
             let adj = self.l.adj(t);
             for i in 0..4 {
                 let u = crate::tetmesh::FaceRef::from_raw(adj[i]).tet().0;
-                if !inside.contains(&u) {
-                    on_boundary.extend(FACE_VERTICES[i].map(|k| v[k]));
+                if !self.cone_tets.contains(u) {
+                    for k in FACE_VERTICES[i] {
+                        self.cone_verts.insert(v[k]);
+                    }
                 }
             }
         }
         region
             .iter()
-            .any(|&t| self.l.tet(t).iter().any(|x| !on_boundary.contains(x)))
+            .any(|&t| self.l.tet(t).iter().any(|&x| !self.cone_verts.contains(x)))
     }
 
     /// True when every constrained edge and face of the `region` survives its
-    /// replacement by the tets `new` (the region's boundary faces `at_apex` stay as
-    /// faces of the tets outside). Decided before the change: an edge of the region
-    /// survives iff it is an edge of a boundary face or of a new tet, a face iff it is
-    /// a boundary face or a face of a new tet (the tets outside keep theirs).
-    fn cone_keeps_locks(&self, region: &[u32], new: &[[u32; 4]], at_apex: &[[u32; 3]]) -> bool {
-        let mut edges: FastSet<(u32, u32)> = FastSet::default();
-        let mut faces: FastSet<[u32; 3]> = FastSet::default();
-        let mut add_face = |f: [u32; 3], edges: &mut FastSet<(u32, u32)>| {
-            for (i, j) in [(0, 1), (1, 2), (2, 0)] {
-                edges.insert((f[i].min(f[j]), f[i].max(f[j])));
+    /// replacement by the cone from `apex` over the bases `new` (the region's boundary
+    /// faces `at_apex` stay as faces of the tets outside; `cone_verts` marks the
+    /// vertices on the boundary). Decided before the change: an edge survives iff it
+    /// is an edge of a boundary face, or joins the apex to a boundary vertex; a face
+    /// iff it is a boundary face, or joins the apex to an edge of a base. Only the
+    /// (few) constrained entities are looked up in the boundary.
+    fn cone_keeps_locks(
+        &self,
+        region: &[u32],
+        apex: u32,
+        new: &[[u32; 4]],
+        at_apex: &[[u32; 3]],
+    ) -> bool {
+        let bases = || new.iter().map(|t| [t[0], t[1], t[2]]);
+        let on_face = |f: &[u32; 3], x: u32, y: u32| f.contains(&x) && f.contains(&y);
+        let edge_kept = |x: u32, y: u32| {
+            if x == apex || y == apex {
+                return self.cone_verts.contains(x ^ y ^ apex);
             }
-            let mut s = f;
-            s.sort_unstable();
-            faces.insert(s);
+            bases().any(|f| on_face(&f, x, y)) || at_apex.iter().any(|f| on_face(f, x, y))
         };
-        for t in new {
-            let apex = t[3];
-            add_face([t[0], t[1], t[2]], &mut edges);
-            for (i, j) in [(0, 1), (1, 2), (2, 0)] {
-                add_face([t[i], t[j], apex], &mut edges);
+        let face_kept = |f: [u32; 3]| {
+            let same = |g: &[u32; 3]| g.iter().all(|x| f.contains(x));
+            if let Some(k) = f.iter().position(|&x| x == apex) {
+                let (x, y) = (f[(k + 1) % 3], f[(k + 2) % 3]);
+                return at_apex.iter().any(same) || bases().any(|g| on_face(&g, x, y));
             }
-        }
-        for &f in at_apex {
-            add_face(f, &mut edges);
-        }
+            bases().any(|g| same(&g))
+        };
         region.iter().all(|&t| {
             let v = self.l.tet(t);
-            let edges_kept =
-                [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)]
-                    .iter()
-                    .all(|&(i, j)| {
-                        let (x, y) = (v[i].min(v[j]), v[i].max(v[j]));
-                        !self.locks.edge(x, y) || edges.contains(&(x, y))
-                    });
-            edges_kept
+            [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)]
+                .iter()
+                .all(|&(i, j)| !self.locks.edge(v[i], v[j]) || edge_kept(v[i], v[j]))
                 && FACE_VERTICES.iter().all(|f| {
-                    let mut f = f.map(|k| v[k]);
-                    f.sort_unstable();
-                    !self.locks.faces.contains(&f) || faces.contains(&f)
+                    let f = f.map(|k| v[k]);
+                    !self.locks.face(f) || face_kept(f)
                 })
         })
     }

@@ -33,20 +33,35 @@ impl Recovery {
     /// next recovery pass needs no sweep over the whole mesh.
     pub(super) fn insert_points(&mut self, points: &[Point]) -> Vec<Option<u32>> {
         self.l.forget();
-        let mut cons = self.lock_constraints();
+        let mut cons = self.region_constraints();
+        // Face masks are learnt lazily, for the tets a cavity can reach (a scan of
+        // every face of the mesh per round was most of a late round on turbine).
+        let mut known = vec![false; cons.face_mask.len()];
+        let mut reach: Vec<u32> = Vec::new();
         let mut kernel = Kernel::new();
         let mut out = Vec::with_capacity(points.len());
         let mut touched = vec![false; self.l.mesh.num_vertices() + points.len()];
         for &p in points {
+            // With the masks known so far (fewer constraints), the conflict region
+            // grows over every tet the true one can: its tets and their neighbours
+            // are all the kernel reads.
+            reach.clear();
+            let _ = kernel.constrained_cavity_with(&self.l.mesh, &cons, p, None, &mut |t| {
+                reach.push(t);
+                false
+            });
+            self.learn_masks(&reach, &mut cons, &mut known);
             let v = match kernel.constrained_cavity(&self.l.mesh, &cons, p, None) {
                 Ok(()) => {
                     for x in kernel.cavity_vertices() {
                         touched[x.index()] = true;
                     }
-                    kernel
-                        .commit_cavity(&mut self.l.mesh, &mut cons, p)
-                        .ok()
-                        .map(|v| v.0)
+                    let v = kernel.commit_cavity(&mut self.l.mesh, &mut cons, p).ok();
+                    known.resize(cons.face_mask.len(), false);
+                    for &t in kernel.new_tets() {
+                        known[t as usize] = true;
+                    }
+                    v.map(|v| v.0)
                 }
                 Err(_) => None,
             };
@@ -174,48 +189,45 @@ impl Recovery {
         self.locks = locks;
     }
 
-    /// The kernel's constraints: the locked faces masked on both sides, every finite
-    /// tet in one region.
-    fn lock_constraints(&self) -> Constraints {
+    /// The kernel's constraints before any face mask is known: every finite tet in
+    /// one region.
+    fn region_constraints(&self) -> Constraints {
         let mesh = &self.l.mesh;
         let n = mesh.num_slots();
         let mut cons = Constraints {
             face_mask: vec![0; n],
             region: vec![0; n],
         };
-        // Most faces are not locked: a bit per hashed key rules them out before the
-        // set is probed (the set probe per face of every tet was most of an
-        // incremental round on turbine).
-        let bits = (self.locks.faces.len() * 16).next_power_of_two().max(64);
-        let mut filter = vec![0u64; bits / 64];
-        let slot = |k: &[u32; 3]| {
-            let h = (k[0] as u64)
-                .wrapping_mul(0x9E37_79B9_7F4A_7C15)
-                .rotate_left(21)
-                ^ (k[1] as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F)
-                ^ (k[2] as u64).wrapping_mul(0x1656_67B1_9E37_79F9);
-            (h >> 7) as usize & (bits - 1)
-        };
-        for k in &self.locks.faces {
-            let s = slot(k);
-            filter[s / 64] |= 1 << (s % 64);
-        }
         for t in mesh.tets() {
-            if mesh.is_ghost(t) {
-                continue;
-            }
-            cons.region[t.index()] = ANY_REGION;
-            let v = mesh.raw_tet(t.0);
-            for (i, f) in FACE_VERTICES.iter().enumerate() {
-                let mut key = [v[f[0]], v[f[1]], v[f[2]]];
-                key.sort_unstable();
-                let s = slot(&key);
-                if filter[s / 64] & (1 << (s % 64)) != 0 && self.locks.faces.contains(&key) {
-                    cons.face_mask[t.index()] |= 1 << i;
-                }
+            if !mesh.is_ghost(t) {
+                cons.region[t.index()] = ANY_REGION;
             }
         }
         cons
+    }
+
+    /// Sets the face masks (locked faces) of the tets `reach` and of their
+    /// neighbours, where not `known` yet.
+    fn learn_masks(&self, reach: &[u32], cons: &mut Constraints, known: &mut [bool]) {
+        let mesh = &self.l.mesh;
+        for &t in reach {
+            let adj = mesh.raw_adj(t);
+            for u in std::iter::once(t).chain(adj.iter().map(|&a| a >> 2)) {
+                if known[u as usize] {
+                    continue;
+                }
+                known[u as usize] = true;
+                if self.l.is_ghost(u) {
+                    continue;
+                }
+                let v = mesh.raw_tet(u);
+                for (i, f) in FACE_VERTICES.iter().enumerate() {
+                    if self.locks.face([v[f[0]], v[f[1]], v[f[2]]]) {
+                        cons.face_mask[u as usize] |= 1 << i;
+                    }
+                }
+            }
+        }
     }
 }
 

@@ -540,6 +540,12 @@ impl Local {
                 return Err(Refused::NotPositive);
             }
         }
+        self.replace_positive(old, new)
+    }
+
+    /// [`Local::replace`] for `new` tets known to be positive (the inverse of a
+    /// checked change): the faces are still matched.
+    fn replace_positive(&mut self, old: &[u32], new: &[[u32; 4]]) -> Result<(), Refused> {
         let mut buf = std::mem::take(&mut self.pairing);
         let r = self.pair_faces(old, new, &mut buf);
         let r = r.and_then(|()| self.commit(old, new, &buf.links));
@@ -629,7 +635,7 @@ impl Local {
             };
             let was = std::mem::replace(&mut self.journaling, false);
             // The inverse of a checked change is valid, so this cannot be refused.
-            let r = self.replace(&created, &replaced);
+            let r = self.replace_positive(&created, &replaced);
             debug_assert!(r.is_ok(), "undo refused: {r:?}");
             self.stamps.restore(&stamps);
             self.journaling = was;
@@ -837,5 +843,40 @@ mod tests {
         l.mesh.validate(false).unwrap();
         assert_eq!(l.replace(&old, &t), Ok(()));
         l.mesh.validate(false).unwrap();
+    }
+}
+
+/// Membership marks over ids (tet slots, vertices) with an epoch, so that emptying
+/// them costs nothing: for the sets a local operation builds many times.
+#[derive(Debug, Default)]
+pub(crate) struct Marks {
+    mark: Vec<u32>,
+    epoch: u32,
+}
+
+impl Marks {
+    /// Empties the marks, for ids below `n`.
+    pub fn clear(&mut self, n: usize) {
+        if self.mark.len() < n {
+            self.mark.resize(n, 0);
+        }
+        self.epoch = self.epoch.wrapping_add(1);
+        if self.epoch == 0 {
+            self.mark.fill(0);
+            self.epoch = 1;
+        }
+    }
+
+    /// Marks `i`; true when it was not marked.
+    pub fn insert(&mut self, i: u32) -> bool {
+        let m = &mut self.mark[i as usize];
+        let fresh = *m != self.epoch;
+        *m = self.epoch;
+        fresh
+    }
+
+    /// Whether `i` is marked.
+    pub fn contains(&self, i: u32) -> bool {
+        self.mark.get(i as usize) == Some(&self.epoch)
     }
 }

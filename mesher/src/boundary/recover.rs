@@ -19,7 +19,7 @@
 //! running out reports the entity as stuck, never loops for ever.
 
 use super::flips::{flip23, remove_edge, Choice, FlipCounts, Locks};
-use super::local::Local;
+use super::local::{Local, Marks};
 use crate::geom::predicates::Orientation;
 use crate::geom::Point;
 use crate::tetmesh::FACE_VERTICES;
@@ -121,6 +121,10 @@ pub(crate) struct Recovery {
     /// Levels of preparatory removals at a stuck segment before a Steiner point
     /// ([`super::BoundaryOptions::flip_depth`]).
     pub flip_depth: usize,
+    /// Tets of the cone region being built ([`super::cone`]).
+    pub(super) cone_tets: Marks,
+    /// Vertices on the boundary of that region.
+    pub(super) cone_verts: Marks,
     pub(super) scratch: Vec<u32>,
     star: Vec<u32>,
     /// Entities whose recovery failed (an edge is `[a, b, u32::MAX]`, a triangle its
@@ -137,6 +141,8 @@ impl Recovery {
             steiner: Vec::new(),
             allow_steiner: false,
             flip_depth: 1,
+            cone_tets: Marks::default(),
+            cone_verts: Marks::default(),
             scratch: Vec::new(),
             star: Vec::new(),
             failed: HashMap::default(),
