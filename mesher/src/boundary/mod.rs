@@ -52,6 +52,7 @@ use crate::geom::{Aabb, Point};
 use crate::surface::Surface;
 use crate::tetmesh::{TetMesh, VertexId};
 use crate::volume::VolumeMesh;
+use crate::FastSet;
 use flips::Locks;
 use local::Local;
 use recover::{Recovery, Stuck};
@@ -710,9 +711,14 @@ fn recover_all(
     // Locks kept from an incremental round tell what is present without a sweep;
     // faces are locked again only after the edges (as in a fresh round), so flips for
     // the edges may take some away: those are looked up again (see `faces_now`).
-    let kept = std::mem::take(&mut rec.locks);
+    // The kept sets are reused (a round's locks are most of the next one's).
+    let Locks {
+        edges: kept_edges,
+        faces: mut kept_faces,
+    } = std::mem::take(&mut rec.locks);
     let since = rec.l.stamps.clock;
-    let present = edges_now(rec, &kept, &mesh_edges);
+    rec.locks.edges = kept_edges;
+    let present = edges_now(rec, &mesh_edges);
     for (&(a, b, t), &here) in edges.iter().zip(&present) {
         if here {
             lock_edge(rec, m(a), m(b));
@@ -723,6 +729,7 @@ fn recover_all(
     if round == 0 {
         report.missing_edges = missing.len();
     }
+
     // Repeated passes: recovering one segment can unblock another.
     let mut stuck_edges = Vec::new();
     // First flips and cones only, then with Steiner points for what is left.
@@ -766,7 +773,14 @@ fn recover_all(
     let mut faces: Vec<u32> = Vec::new();
     let mut missing_faces = 0;
     let mesh_tris: Vec<[u32; 3]> = surface.triangles.iter().map(|t| t.map(m)).collect();
-    let found = faces_now(rec, &kept, since, &mesh_tris);
+    let found = faces_now(rec, &kept_faces, since, &mesh_tris);
+    // Kept faces the edges' flips took away are dropped, the others stay.
+    for (k, f) in mesh_tris.iter().enumerate() {
+        if !found[k] {
+            kept_faces.remove(&sorted(*f));
+        }
+    }
+    rec.locks.faces = kept_faces;
     for (k, f) in mesh_tris.iter().enumerate() {
         if found[k] {
             rec.locks.faces.insert(sorted(*f));
@@ -840,25 +854,30 @@ fn recover_all(
 /// Which edges (mesh vertex ids) are in the mesh: from the locks `kept` by an
 /// incremental round (exactly the locked entities still present) and a local look-up
 /// for the others; one sweep over the mesh when there are none.
-fn edges_now(rec: &mut Recovery, kept: &Locks, edges: &[(u32, u32)]) -> Vec<bool> {
-    if kept.edges.is_empty() {
+fn edges_now(rec: &mut Recovery, edges: &[(u32, u32)]) -> Vec<bool> {
+    if rec.locks.edges.is_empty() {
         return rec.l.edges_present(edges);
     }
     edges
         .iter()
-        .map(|&(a, b)| kept.edge(a, b) || rec.has_edge(a, b))
+        .map(|&(a, b)| rec.locks.edge(a, b) || rec.has_edge(a, b))
         .collect()
 }
 
 /// Which triangles (mesh vertex ids) are faces of the mesh, as [`edges_now`]: a face
 /// `kept` is still there if no change touched its vertices since the clock `since`.
-fn faces_now(rec: &mut Recovery, kept: &Locks, since: u32, tris: &[[u32; 3]]) -> Vec<bool> {
-    if kept.faces.is_empty() {
+fn faces_now(
+    rec: &mut Recovery,
+    kept: &FastSet<[u32; 3]>,
+    since: u32,
+    tris: &[[u32; 3]],
+) -> Vec<bool> {
+    if kept.is_empty() {
         return faces_found(&rec.l, tris);
     }
     tris.iter()
         .map(|&f| {
-            (kept.face(f) && !rec.l.stamps.changed_since(&f, since))
+            (!rec.l.stamps.changed_since(&f, since) && kept.contains(&sorted(f)))
                 || rec.has_face(f[0], f[1], f[2])
         })
         .collect()
