@@ -77,7 +77,7 @@ pub(crate) fn flip23(
 }
 
 /// Which triangulation of the ring polygon an edge removal uses.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub(crate) enum Choice {
     /// The best valid one.
     Best,

@@ -79,6 +79,7 @@ impl Recovery {
         self.keep_surviving_locks(&touched);
         // The kernel changed the mesh without stamps: every entity is tried again.
         self.failed.clear();
+        self.removal_failed.clear();
         out
     }
 

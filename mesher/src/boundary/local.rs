@@ -755,6 +755,12 @@ impl Stamps {
         }
     }
 
+    /// The stamp of vertex `x`: the clock of the last change at it (restored by an
+    /// undo), so equal stamps mean the same tets at `x`.
+    pub fn of(&self, x: u32) -> u32 {
+        self.stamp.get(x as usize).copied().unwrap_or(0)
+    }
+
     /// True when a tet at one of `verts` changed after the clock read `since`.
     pub fn changed_since(&self, verts: &[u32], since: u32) -> bool {
         verts

@@ -121,6 +121,9 @@ pub(crate) struct Recovery {
     /// Levels of preparatory removals at a stuck segment before a Steiner point
     /// ([`super::BoundaryOptions::flip_depth`]).
     pub flip_depth: usize,
+    /// Edge removals that failed, with the stamps of the edge's ends then (see
+    /// [`Recovery::remove_once`]); emptied when the mesh changes without stamps.
+    pub(super) removal_failed: HashMap<(u32, u32, Choice), (u32, u32)>,
     /// Tets of the cone region being built ([`super::cone`]).
     pub(super) cone_tets: Marks,
     /// Vertices on the boundary of that region.
@@ -141,6 +144,7 @@ impl Recovery {
             steiner: Vec::new(),
             allow_steiner: false,
             flip_depth: 1,
+            removal_failed: HashMap::default(),
             cone_tets: Marks::default(),
             cone_verts: Marks::default(),
             scratch: Vec::new(),
@@ -548,8 +552,20 @@ impl Recovery {
         !(oy == Orientation::Positive && ox == Orientation::Negative)
     }
 
+    /// [`remove_edge`], unless it failed before with the same `choice` and no tet at
+    /// `x` or `y` has changed since (the ring of `xy` is then the same, and so is the
+    /// outcome: most removals tried while preparing others fail, many of them
+    /// again and again).
     fn remove_once(&mut self, x: u32, y: u32, choice: Choice) -> bool {
-        remove_edge(
+        if self.locks.edge(x, y) {
+            return false;
+        }
+        let key = (x, y, choice);
+        let now = (self.l.stamps.of(x), self.l.stamps.of(y));
+        if self.removal_failed.get(&key) == Some(&now) {
+            return false;
+        }
+        let done = remove_edge(
             &mut self.l,
             &self.locks,
             x,
@@ -558,7 +574,11 @@ impl Recovery {
             &mut self.scratch,
             &mut self.flips,
         )
-        .is_ok()
+        .is_ok();
+        if !done {
+            self.removal_failed.insert(key, now);
+        }
+        done
     }
 
     /// Removes one edge of the face opposite vertex `i` of `t` (the reflex one first), so
