@@ -281,17 +281,35 @@ fn boundary_attempt(
         ..BoundaryReport::default()
     };
     let t0 = Instant::now();
-    if options.check_input {
-        let check = surface.check();
-        if !check.is_clean() {
-            return Err(BoundaryError::Defective {
-                defects: check.num_defects(),
-                summary: check.to_string(),
-            });
-        }
-    }
-    report.time_check = t0.elapsed().as_secs_f64();
     let mut work = Refined::new(surface);
+    // The input check and the first Delaunay mesh do not depend on each other: they
+    // run side by side, and a defect found by the check still comes first.
+    let timed = |f: &dyn Fn() -> _| {
+        let t = Instant::now();
+        let r = f();
+        (r, t.elapsed().as_secs_f64())
+    };
+    let first = || Round::rebuild(&work.surface, &[], options);
+    let ((check, time_check), (first, time_first)) = if options.check_input {
+        rayon::join(
+            || {
+                let t = Instant::now();
+                (Some(surface.check()), t.elapsed().as_secs_f64())
+            },
+            || timed(&first),
+        )
+    } else {
+        ((None, 0.0), timed(&first))
+    };
+    if let Some(check) = check.filter(|c| !c.is_clean()) {
+        return Err(BoundaryError::Defective {
+            defects: check.num_defects(),
+            summary: check.to_string(),
+        });
+    }
+    report.time_check = time_check;
+    report.time_delaunay = time_first;
+    let mut initial = Some(first?);
     let mut edges = input_edges(&work.surface, options.edge_order);
     let mut steiner_points: Vec<Point> = Vec::new();
     // Steiner points chosen since the last round (for an incremental round).
@@ -306,13 +324,21 @@ fn boundary_attempt(
     for round in 0..=rounds {
         rounds_done = round;
         let t1 = Instant::now();
-        let reuse = match previous.as_mut() {
-            Some(r) if options.incremental => r.extend(&work, &fresh),
-            _ => false,
-        };
-        let mut cur = match previous.take() {
-            Some(r) if reuse => r,
-            _ => Round::rebuild(&work.surface, &steiner_points, options)?,
+        let (mut cur, reuse) = match initial.take() {
+            Some(r) => (r, false),
+            None => {
+                let reuse = match previous.as_mut() {
+                    Some(r) if options.incremental => r.extend(&work, &fresh),
+                    _ => false,
+                };
+                match previous.take() {
+                    Some(r) if reuse => (r, true),
+                    _ => (
+                        Round::rebuild(&work.surface, &steiner_points, options)?,
+                        false,
+                    ),
+                }
+            }
         };
         fresh.clear();
         report.time_delaunay += t1.elapsed().as_secs_f64();
