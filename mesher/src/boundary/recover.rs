@@ -584,7 +584,7 @@ impl Recovery {
         done
     }
 
-    /// Removes one reflex edge of the face opposite vertex `i` of `t` (the last first), so
+    /// Removes one edge of the face opposite vertex `i` of `t` (the reflex one first), so
     /// that a later 2-3 flip of the face can succeed (the 2-3 flip itself was refused).
     fn unblock_face(&mut self, t: u32, i: usize) -> bool {
         let v = self.l.tet(t);
@@ -595,15 +595,14 @@ impl Recovery {
             return false;
         }
         let e = self.l.tet(nb.tet().0)[nb.facet()];
-        // The edges of the face that the segment de passes on the wrong side of (the
-        // reflex ones, that keep the 2-3 flip from being valid). Only those: removing
-        // another edge rarely shortened the segment's chain (hinge: one interior
-        // Steiner point fewer, every other model the same, 1-4 % less time).
+        // The edges of the face that the segment de passes on the wrong side of.
         let mut edges: Vec<(u32, u32)> = Vec::new();
         for k in 0..3 {
             let (p, q) = (f[k], f[(k + 1) % 3]);
             if self.l.orient(p, q, d, e) != Orientation::Negative {
                 edges.insert(0, (p, q));
+            } else {
+                edges.push((p, q));
             }
         }
         edges
