@@ -572,11 +572,6 @@ fn suppress(
             break;
         }
     }
-    // The few left get one more try with deeper preparations (too dear for all).
-    steiner.retain(|v| {
-        !inside.get(v.index()).copied().unwrap_or(false)
-            || !rec.remove_steiner_deep(v.0, suppress::FINAL_SUPPRESS_DEPTH)
-    });
     report.steiner_removed = before - steiner.len();
 }
 

@@ -124,8 +124,6 @@ pub(crate) struct Recovery {
     /// Edge removals that failed, with the stamps of the edge's ends then (see
     /// [`Recovery::remove_once`]); emptied when the mesh changes without stamps.
     pub(super) removal_failed: HashMap<(u32, u32, Choice), (u32, u32)>,
-    /// Levels of preparation of the edge removals at a Steiner point being taken out.
-    pub(super) suppress_depth: usize,
     /// Tets of the cone region being built ([`super::cone`]).
     pub(super) cone_tets: Marks,
     /// Vertices on the boundary of that region.
@@ -147,7 +145,6 @@ impl Recovery {
             allow_steiner: false,
             flip_depth: 1,
             removal_failed: HashMap::default(),
-            suppress_depth: super::suppress::SUPPRESS_FLIP_DEPTH,
             cone_tets: Marks::default(),
             cone_verts: Marks::default(),
             scratch: Vec::new(),

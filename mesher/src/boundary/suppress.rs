@@ -26,13 +26,7 @@ const MAX_DEGREE_FLIPS: usize = 8;
 /// point being taken out. Level 1 leaves fewer interior Steiner points on cheese
 /// (26 -> 23) and anchor (22 -> 21) for 0.02 s more on cheese; level 2 takes one more
 /// on turbine and hinge for 0.05 s more on cheese, level 3 nothing more.
-pub(super) const SUPPRESS_FLIP_DEPTH: usize = 1;
-
-/// Levels of preparatory removals in the last try at the interior Steiner points that
-/// level [`SUPPRESS_FLIP_DEPTH`] leaves (one pass over those few): cheese 23 -> 21,
-/// turbine 7 -> 6 for 3 % more time on cheese; level 2 takes one fewer on cheese, level 4
-/// one more, for 11 % more time.
-pub(super) const FINAL_SUPPRESS_DEPTH: usize = 3;
+const SUPPRESS_FLIP_DEPTH: usize = 1;
 
 /// Tets a side of a split point's star may take in from outside the star.
 const MAX_SIDE_GROWTH: usize = 256;
@@ -94,15 +88,6 @@ impl Recovery {
         self.with_fewer_edges(s, |rec| rec.remove_vertex(s) || rec.remove_grown(s))
     }
 
-    /// [`Recovery::remove_steiner`] with `depth` levels of preparation for the edge
-    /// removals at `s`.
-    pub fn remove_steiner_deep(&mut self, s: u32, depth: usize) -> bool {
-        let keep = std::mem::replace(&mut self.suppress_depth, depth);
-        let done = self.remove_steiner(s);
-        self.suppress_depth = keep;
-        done
-    }
-
     /// `remove()`, and if it fails, again after each edge removal at `s` (each lowers
     /// its degree, which may make its star easier to re-tetrahedralise); bounded. The
     /// flips made on a failed attempt stay: each is a checked, valid change that keeps
@@ -124,7 +109,7 @@ impl Recovery {
             nbrs.dedup();
             let removed = nbrs
                 .into_iter()
-                .any(|x| self.remove_deep(s, x, Choice::Best, self.suppress_depth));
+                .any(|x| self.remove_deep(s, x, Choice::Best, SUPPRESS_FLIP_DEPTH));
             if !removed {
                 break;
             }
