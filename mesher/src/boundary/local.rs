@@ -37,7 +37,7 @@ pub(crate) struct Local {
     /// Tets created by the last successful [`Local::replace`].
     pub created: Vec<u32>,
     /// Undo log of the changes since [`Local::mark`].
-    journal: Vec<Change>,
+    journal: Journal,
     journaling: bool,
     /// Validate the whole mesh after every change (`MESHER_VALIDATE_OPS` set; slow).
     validate_ops: bool,
@@ -48,6 +48,8 @@ pub(crate) struct Local {
     pub stamps: Stamps,
     /// Scratch space of [`Local::replace`].
     pairing: Pairing,
+    /// Scratch space of [`Local::undo`]: one change taken off the journal.
+    undone: (Vec<u32>, Vec<[u32; 4]>, Vec<(u32, u32)>),
     /// A static filter for [`Local::orient`] over the box of the first `filtered`
     /// vertices (rebuilt with the vertex-to-tet map; later vertices take the
     /// semi-static filter).
@@ -59,21 +61,71 @@ pub(crate) struct Local {
 /// neighbour, parity), the new tets' faces (key, tet, face, parity), and the links.
 #[derive(Debug, Default)]
 struct Pairing {
-    outer: Vec<([u32; 3], FaceRef, bool)>,
-    faces: Vec<([u32; 3], u32, u8, bool)>,
+    outer: Vec<(u128, FaceRef, bool)>,
+    faces: Vec<(u128, u32, u8, bool)>,
     links: Vec<(usize, usize, Link)>,
+    /// Tet slots of the change being committed.
+    ids: Vec<u32>,
 }
 
-/// One journalled change: the tets it created, the tets it replaced, and the stamps it
-/// overwrote (vertex, stamp), so that an undone change leaves no stamp.
-#[derive(Debug)]
-struct Change {
+/// The undo log: per journalled change, the tets it created, the tets it replaced,
+/// and the stamps it overwrote (vertex, stamp), so that an undone change leaves no
+/// stamp. Flat lists with one end offset per change (no allocation per change: most
+/// changes are tried and undone).
+#[derive(Debug, Default)]
+struct Journal {
+    /// Per change: the ends of its entries in `created`, `replaced` and `stamps`.
+    ends: Vec<(u32, u32, u32)>,
     created: Vec<u32>,
     replaced: Vec<[u32; 4]>,
     stamps: Vec<(u32, u32)>,
 }
 
-/// A face key: sorted vertex ids and whether the given order is an even permutation of
+impl Journal {
+    fn len(&self) -> usize {
+        self.ends.len()
+    }
+
+    fn clear(&mut self) {
+        self.ends.clear();
+        self.created.clear();
+        self.replaced.clear();
+        self.stamps.clear();
+    }
+
+    /// Closes the entries pushed since the previous change as one change.
+    fn seal(&mut self) {
+        let n = |v: usize| v as u32;
+        self.ends.push((
+            n(self.created.len()),
+            n(self.replaced.len()),
+            n(self.stamps.len()),
+        ));
+    }
+
+    /// Removes the newest change into the given lists.
+    fn pop_into(
+        &mut self,
+        created: &mut Vec<u32>,
+        replaced: &mut Vec<[u32; 4]>,
+        stamps: &mut Vec<(u32, u32)>,
+    ) -> bool {
+        if self.ends.pop().is_none() {
+            return false;
+        }
+        let (c, r, s) = self.ends.last().copied().unwrap_or((0, 0, 0));
+        created.clear();
+        created.extend(self.created.drain(c as usize..));
+        replaced.clear();
+        replaced.extend(self.replaced.drain(r as usize..));
+        stamps.clear();
+        stamps.extend(self.stamps.drain(s as usize..));
+        true
+    }
+}
+
+/// A face key: sorted vertex ids (packed, smallest in the high bits: the order of the
+/// sorted triples) and whether the given order is an even permutation of
 /// the sorted one.
 /// Steps of the walk in a star before it falls back to the whole star.
 const WALK_STEPS: usize = 512;
@@ -85,7 +137,7 @@ enum Walk {
     Unsure,
 }
 
-fn face_key(f: [u32; 3]) -> ([u32; 3], bool) {
+fn face_key(f: [u32; 3]) -> (u128, bool) {
     let mut s = f;
     let mut even = true;
     for i in 0..3 {
@@ -96,7 +148,8 @@ fn face_key(f: [u32; 3]) -> ([u32; 3], bool) {
             }
         }
     }
-    (s, even)
+    let key = (u128::from(s[0]) << 64) | (u128::from(s[1]) << 32) | u128::from(s[2]);
+    (key, even)
 }
 
 impl Local {
@@ -106,13 +159,14 @@ impl Local {
             v2t: Vec::new(),
             mesh,
             created: Vec::new(),
-            journal: Vec::new(),
+            journal: Journal::default(),
             journaling: false,
             validate_ops: std::env::var_os("MESHER_VALIDATE_OPS").is_some(),
             seen: Default::default(),
             visit: Default::default(),
             stamps: Stamps::default(),
             pairing: Pairing::default(),
+            undone: Default::default(),
             filter: StaticFilter::none(),
             filtered: 0,
         };
@@ -490,7 +544,7 @@ impl Local {
     /// slot, the triangle index on each of its four faces (`u32::MAX` for none). One
     /// sweep over the tets with a hash of the triangles.
     pub fn triangle_faces(&self, tris: &[[u32; 3]]) -> Vec<[u32; 4]> {
-        let mut index: HashMap<[u32; 3], u32> = HashMap::default();
+        let mut index: HashMap<u128, u32> = HashMap::default();
         index.reserve(tris.len());
         for (k, t) in tris.iter().enumerate() {
             index.insert(face_key(*t).0, k as u32);
@@ -548,7 +602,7 @@ impl Local {
     fn replace_positive(&mut self, old: &[u32], new: &[[u32; 4]]) -> Result<(), Refused> {
         let mut buf = std::mem::take(&mut self.pairing);
         let r = self.pair_faces(old, new, &mut buf);
-        let r = r.and_then(|()| self.commit(old, new, &buf.links));
+        let r = r.and_then(|()| self.commit(old, new, &buf.links, &mut buf.ids));
         self.pairing = buf;
         r
     }
@@ -624,15 +678,14 @@ impl Local {
 
     /// Reverts the changes recorded since `mark`, newest first.
     pub fn undo(&mut self, mark: usize) {
+        let (mut created, mut replaced, mut stamps) = std::mem::take(&mut self.undone);
         while self.journal.len() > mark {
-            let Some(Change {
-                created,
-                replaced,
-                stamps,
-            }) = self.journal.pop()
-            else {
+            if !self
+                .journal
+                .pop_into(&mut created, &mut replaced, &mut stamps)
+            {
                 break;
-            };
+            }
             let was = std::mem::replace(&mut self.journaling, false);
             // The inverse of a checked change is valid, so this cannot be refused.
             let r = self.replace_positive(&created, &replaced);
@@ -640,6 +693,7 @@ impl Local {
             self.stamps.restore(&stamps);
             self.journaling = was;
         }
+        self.undone = (created, replaced, stamps);
     }
 
     /// Stops recording and forgets the log.
@@ -653,8 +707,10 @@ impl Local {
         old: &[u32],
         new: &[[u32; 4]],
         links: &[(usize, usize, Link)],
+        ids: &mut Vec<u32>,
     ) -> Result<(), Refused> {
-        let mut ids: Vec<u32> = old.iter().take(new.len()).copied().collect();
+        ids.clear();
+        ids.extend(old.iter().take(new.len()).copied());
         while ids.len() < new.len() {
             match self.mesh.alloc_tet() {
                 Some(t) => ids.push(t),
@@ -667,16 +723,14 @@ impl Local {
             }
         }
         if self.journaling {
-            let before: Vec<[u32; 4]> = old.iter().map(|&t| self.tet(t)).collect();
             // The undo stamps the old tets' vertices, the new ones' were stamped now.
-            let stamps = self
-                .stamps
-                .read(new.iter().chain(&before).flatten().copied());
-            self.journal.push(Change {
-                created: ids.clone(),
-                replaced: before,
-                stamps,
-            });
+            let j = &mut self.journal;
+            j.created.extend_from_slice(ids);
+            let first = j.replaced.len();
+            j.replaced.extend(old.iter().map(|&t| self.mesh.raw_tet(t)));
+            let verts = new.iter().chain(&j.replaced[first..]).flatten().copied();
+            j.stamps.extend(self.stamps.read(verts));
+            j.seal();
         }
         // Freed in reverse: the free list is a stack, so the inverse change (an undo)
         // allocates these same slots in the same order, and frees the slots this
@@ -708,7 +762,8 @@ impl Local {
         }
         self.stamps
             .touch(ids.iter().flat_map(|&t| self.mesh.raw_tet(t)));
-        self.created = ids;
+        self.created.clear();
+        self.created.extend_from_slice(ids);
         Ok(())
     }
 }
@@ -739,11 +794,13 @@ impl Stamps {
     }
 
     /// The stamps of `verts` (repetitions included), for [`Stamps::restore`].
-    fn read(&self, verts: impl IntoIterator<Item = u32>) -> Vec<(u32, u32)> {
+    fn read<'a>(
+        &'a self,
+        verts: impl IntoIterator<Item = u32> + 'a,
+    ) -> impl Iterator<Item = (u32, u32)> + 'a {
         verts
             .into_iter()
             .map(|x| (x, self.stamp.get(x as usize).copied().unwrap_or(0)))
-            .collect()
     }
 
     /// Puts back stamps saved by [`Stamps::read`].
