@@ -279,92 +279,112 @@ impl Recovery {
     ) -> Option<(Vec<u32>, Vec<[u32; 4]>)> {
         let mut candidates: Vec<u32> = Vec::new();
         let in_side: FastSet<u32> = side.iter().copied().collect();
+        // The side's boundary faces away from `m` with the tet behind each, in the
+        // order the growth meets them: every apex starts there (hundreds are tried).
+        let mut rim: Vec<([u32; 3], u32)> = Vec::new();
         for &t in side {
-            for a in self.l.adj(t) {
-                let u = FaceRef::from_raw(a).tet().0;
-                if !in_side.contains(&u) && !self.l.is_ghost(u) {
-                    candidates.extend(self.l.tet(u));
+            let v = self.l.tet(t);
+            let adj = self.l.adj(t);
+            for i in 0..4 {
+                let u = FaceRef::from_raw(adj[i]).tet().0;
+                if !in_side.contains(&u) {
+                    if !self.l.is_ghost(u) {
+                        candidates.extend(self.l.tet(u));
+                    }
+                    let f = FACE_VERTICES[i].map(|j| v[j]);
+                    if !f.contains(&m) {
+                        rim.push((f, u));
+                    }
                 }
             }
         }
         candidates.retain(|&v| v != m && v != GHOST);
         candidates.sort_unstable();
         candidates.dedup();
+        let side = Side {
+            m,
+            tets: side,
+            set: &in_side,
+            rim: &rim,
+            cut,
+        };
         candidates
             .into_iter()
-            .find_map(|apex| self.grow_from(m, side, &in_side, cut, apex))
+            .find_map(|apex| self.grow_from(&side, apex))
     }
 
     /// [`Recovery::grown_side`] for one apex.
-    fn grow_from(
-        &self,
-        m: u32,
-        side: &[u32],
-        in_side: &FastSet<u32>,
-        cut: &[[u32; 3]],
-        apex: u32,
-    ) -> Option<(Vec<u32>, Vec<[u32; 4]>)> {
-        if cut.iter().any(|f| {
+    fn grow_from(&self, side: &Side, apex: u32) -> Option<(Vec<u32>, Vec<[u32; 4]>)> {
+        let m = side.m;
+        if side.cut.iter().any(|f| {
             !f.contains(&apex) && self.l.orient(f[0], f[1], f[2], apex) != Orientation::Positive
         }) {
             return None;
         }
-        let mut region: Vec<u32> = side.to_vec();
-        // The side's set is shared by every apex tried (a side can be thousands of
-        // tets, and hundreds of apexes are tried); this apex's additions go apart.
-        let mut added: FastSet<u32> = FastSet::default();
-        let member = |added: &FastSet<u32>, u: u32| in_side.contains(&u) || added.contains(&u);
-        let mut extra: Vec<u32> = Vec::new();
+        // This apex's additions, in order (the side's set is shared by every apex).
+        let mut added = Added::default();
+        // The side's rim first, then the faces of the tets added, in order.
         let mut k = 0;
-        while k < region.len() {
-            if region.len() > MAX_SIDE_GROWTH + side.len() {
+        let mut rim = side.rim.iter();
+        loop {
+            let (f, u) = match rim.next() {
+                Some(&(f, u)) => (f, u),
+                None => {
+                    let Some(&t) = added.list.get(k / 4) else {
+                        break;
+                    };
+                    let i = k % 4;
+                    k += 1;
+                    let f = FACE_VERTICES[i].map(|j| self.l.tet(t)[j]);
+                    let u = FaceRef::from_raw(self.l.adj(t)[i]).tet().0;
+                    if f.contains(&m) || side.set.contains(&u) {
+                        continue;
+                    }
+                    (f, u)
+                }
+            };
+            if f.contains(&apex) || added.contains(u) {
+                continue;
+            }
+            if self.l.orient(f[0], f[1], f[2], apex) == Orientation::Positive {
+                continue;
+            }
+            if self.locks.face(f) || self.l.is_ghost(u) || side_of_star(self, u, m) {
                 return None;
             }
-            let t = region[k];
-            k += 1;
-            let v = self.l.tet(t);
-            let adj = self.l.adj(t);
-            for i in 0..4 {
-                let f = FACE_VERTICES[i].map(|j| v[j]);
-                let u = FaceRef::from_raw(adj[i]).tet().0;
-                if f.contains(&m) || f.contains(&apex) || member(&added, u) {
-                    continue;
-                }
-                if self.l.orient(f[0], f[1], f[2], apex) == Orientation::Positive {
-                    continue;
-                }
-                if self.locks.face(f) || self.l.is_ghost(u) || side_of_star(self, u, m) {
-                    return None;
-                }
-                added.insert(u);
-                region.push(u);
-                extra.push(u);
+            added.push(u);
+            if added.list.len() > MAX_SIDE_GROWTH {
+                return None;
             }
         }
+        let member = |u: u32| side.set.contains(&u) || added.contains(u);
         let mut cone: Vec<[u32; 4]> = Vec::new();
-        for &t in &region {
+        for &t in side.tets.iter().chain(&added.list) {
             let v = self.l.tet(t);
             let adj = self.l.adj(t);
             for i in 0..4 {
                 let f = FACE_VERTICES[i].map(|j| v[j]);
                 let u = FaceRef::from_raw(adj[i]).tet().0;
-                if !f.contains(&m) && !f.contains(&apex) && !member(&added, u) {
+                if !f.contains(&m) && !f.contains(&apex) && !member(u) {
                     cone.push([f[0], f[1], f[2], apex]);
                 }
             }
         }
         cone.extend(
-            cut.iter()
+            side.cut
+                .iter()
                 .filter(|f| !f.contains(&apex))
                 .map(|f| [f[0], f[1], f[2], apex]),
         );
         // Every vertex of the region but `m` stays: the apex or on a face of the cone.
         let on_cone: FastSet<u32> = cone.iter().flat_map(|c| c[..3].iter().copied()).collect();
-        let kept = region
+        let kept = side
+            .tets
             .iter()
+            .chain(&added.list)
             .flat_map(|&t| self.l.tet(t))
             .all(|x| x == m || x == apex || on_cone.contains(&x));
-        kept.then_some((extra, cone))
+        kept.then_some((added.list, cone))
     }
 
     /// Locked edges of the tets `region` that do not end at `m`.
@@ -513,6 +533,46 @@ fn sorted(mut f: [u32; 3]) -> [u32; 3] {
 }
 
 /// True when tet `t` has vertex `m` (it is in the star of `m`, on the other side).
+/// One side of a point's star to grow (see [`Recovery::grown_side`]): the point, the
+/// side's tets (also as a set), its rim (boundary faces away from `m`, with the tet
+/// behind each) and the cut faces the cone must also see.
+struct Side<'a> {
+    m: u32,
+    tets: &'a [u32],
+    set: &'a FastSet<u32>,
+    rim: &'a [([u32; 3], u32)],
+    cut: &'a [[u32; 3]],
+}
+
+/// Tets added to a side for one apex: a list, with a set once it is long (most
+/// apexes fail after a few tets, and a set per apex cost more than the growth).
+#[derive(Default)]
+struct Added {
+    list: Vec<u32>,
+    set: FastSet<u32>,
+}
+
+impl Added {
+    const SHORT: usize = 16;
+
+    fn contains(&self, u: u32) -> bool {
+        if self.list.len() <= Self::SHORT {
+            self.list.contains(&u)
+        } else {
+            self.set.contains(&u)
+        }
+    }
+
+    fn push(&mut self, u: u32) {
+        self.list.push(u);
+        if self.list.len() == Self::SHORT + 1 {
+            self.set.extend(self.list.iter().copied());
+        } else if self.list.len() > Self::SHORT {
+            self.set.insert(u);
+        }
+    }
+}
+
 fn side_of_star(r: &Recovery, t: u32, m: u32) -> bool {
     r.l.tet(t).contains(&m)
 }
