@@ -301,11 +301,17 @@ impl Recovery {
         candidates.retain(|&v| v != m && v != GHOST);
         candidates.sort_unstable();
         candidates.dedup();
+        let walls: Vec<[u32; 3]> = rim
+            .iter()
+            .filter(|&&(f, u)| self.locks.face(f) || self.l.is_ghost(u) || side_of_star(self, u, m))
+            .map(|&(f, _)| f)
+            .collect();
         let side = Side {
             m,
             tets: side,
             set: &in_side,
             rim: &rim,
+            walls: &walls,
             cut,
         };
         candidates
@@ -316,7 +322,10 @@ impl Recovery {
     /// [`Recovery::grown_side`] for one apex.
     fn grow_from(&self, side: &Side, apex: u32) -> Option<(Vec<u32>, Vec<[u32; 4]>)> {
         let m = side.m;
-        if side.cut.iter().any(|f| {
+        // The cut faces must be seen, and so must the walls: the growth cannot cross
+        // them (and a region that took in the tet behind a locked face by another way
+        // would lose that face).
+        if side.cut.iter().chain(side.walls).any(|f| {
             !f.contains(&apex) && self.l.orient(f[0], f[1], f[2], apex) != Orientation::Positive
         }) {
             return None;
@@ -541,6 +550,8 @@ struct Side<'a> {
     tets: &'a [u32],
     set: &'a FastSet<u32>,
     rim: &'a [([u32; 3], u32)],
+    /// The rim faces the growth cannot cross (see [`Recovery::grown_side`]).
+    walls: &'a [[u32; 3]],
     cut: &'a [[u32; 3]],
 }
 
