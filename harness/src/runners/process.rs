@@ -3,7 +3,9 @@
 //! it is exceeded), the exit code or signal, and the tail of stderr.
 //!
 //! The child writes stdout and stderr to files in the run's work directory (no pipe can
-//! fill up and block it). Nothing here panics: every failure is a [`RunError`] or a
+//! fill up and block it). The wait wakes when the child exits (a pidfd polled with the
+//! time left; `wait4` polling as a fallback on kernels without pidfds), so the wall time
+//! is exact to the wake-up, not to a polling period. Nothing here panics: every failure is a [`RunError`] or a
 //! field of [`ProcessStats`].
 
 use super::{ProcessStats, RunError};
@@ -66,10 +68,73 @@ pub fn run_measured(
     Ok(stats)
 }
 
+/// Waits for the child to exit, at most until `timeout`: blocks on a pidfd of the child
+/// (readable when it exits) with the time left; past the limit kills its process group
+/// and reaps it. Falls back to [`poll_with_limit`] when the kernel has no pidfds.
+fn wait_with_limit(
+    pid: libc::pid_t,
+    start: Instant,
+    timeout: Duration,
+) -> (Option<libc::c_int>, libc::rusage, bool) {
+    // SAFETY: pidfd_open takes a pid and flags and returns a new descriptor or -1.
+    let fd = unsafe { libc::syscall(libc::SYS_pidfd_open, pid, 0) } as libc::c_int;
+    if fd < 0 {
+        return poll_with_limit(pid, start, timeout);
+    }
+    let mut timed_out = false;
+    loop {
+        let left = timeout.saturating_sub(start.elapsed());
+        if left.is_zero() {
+            timed_out = true;
+            break;
+        }
+        let mut pfd = libc::pollfd {
+            fd,
+            events: libc::POLLIN,
+            revents: 0,
+        };
+        let ms = left.as_millis().clamp(1, i32::MAX as u128) as libc::c_int;
+        // SAFETY: one valid pollfd.
+        let r = unsafe { libc::poll(&mut pfd, 1, ms) };
+        if r > 0 {
+            break;
+        }
+        if r < 0 && std::io::Error::last_os_error().kind() != std::io::ErrorKind::Interrupted {
+            // SAFETY: our own descriptor.
+            unsafe { libc::close(fd) };
+            return poll_with_limit(pid, start, timeout);
+        }
+    }
+    if timed_out {
+        // SAFETY: signalling our child's own process group (set by process_group(0));
+        // the child is not reaped yet, so its pid cannot have been reused.
+        unsafe {
+            libc::kill(-pid, libc::SIGKILL);
+            libc::kill(pid, libc::SIGKILL);
+        }
+    }
+    // SAFETY: our own descriptor.
+    unsafe { libc::close(fd) };
+    let mut status: libc::c_int = 0;
+    // SAFETY: rusage is plain old data; all-zero is a valid value.
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    loop {
+        // SAFETY: valid pointers to owned locals; pid is our own child (blocking wait).
+        let r = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
+        if r == pid {
+            return (Some(status), usage, timed_out);
+        }
+        if r < 0 && std::io::Error::last_os_error().kind() == std::io::ErrorKind::Interrupted {
+            continue;
+        }
+        return (None, usage, timed_out);
+    }
+}
+
 /// Polls `wait4(pid, WNOHANG)` until the child exits; past `timeout` kills its process
 /// group and reaps it. Returns the wait status (None if waiting failed), the rusage and
 /// whether the limit was hit.
-fn wait_with_limit(
+fn poll_with_limit(
     pid: libc::pid_t,
     start: Instant,
     timeout: Duration,
