@@ -49,7 +49,7 @@ pub(crate) struct Local {
     /// Scratch space of [`Local::replace`].
     pairing: Pairing,
     /// Scratch space of [`Local::undo`]: one change taken off the journal.
-    undone: (Vec<u32>, Vec<[u32; 4]>, Vec<(u32, u32)>),
+    undone: Undone,
     /// A static filter for [`Local::orient`] over the box of the first `filtered`
     /// vertices (rebuilt with the vertex-to-tet map; later vertices take the
     /// semi-static filter).
@@ -103,25 +103,29 @@ impl Journal {
         ));
     }
 
-    /// Removes the newest change into the given lists.
-    fn pop_into(
-        &mut self,
-        created: &mut Vec<u32>,
-        replaced: &mut Vec<[u32; 4]>,
-        stamps: &mut Vec<(u32, u32)>,
-    ) -> bool {
+    /// Removes the newest change into `out`.
+    fn pop_into(&mut self, out: &mut Undone) -> bool {
         if self.ends.pop().is_none() {
             return false;
         }
         let (c, r, s) = self.ends.last().copied().unwrap_or((0, 0, 0));
-        created.clear();
-        created.extend(self.created.drain(c as usize..));
-        replaced.clear();
-        replaced.extend(self.replaced.drain(r as usize..));
-        stamps.clear();
-        stamps.extend(self.stamps.drain(s as usize..));
+        out.created.clear();
+        out.created.extend(self.created.drain(c as usize..));
+        out.replaced.clear();
+        out.replaced.extend(self.replaced.drain(r as usize..));
+        out.stamps.clear();
+        out.stamps.extend(self.stamps.drain(s as usize..));
         true
     }
+}
+
+/// One change taken off the journal: the tets it created, those it replaced, the
+/// stamps it overwrote.
+#[derive(Debug, Default)]
+struct Undone {
+    created: Vec<u32>,
+    replaced: Vec<[u32; 4]>,
+    stamps: Vec<(u32, u32)>,
 }
 
 /// A face key: sorted vertex ids (packed, smallest in the high bits: the order of the
@@ -678,22 +682,19 @@ impl Local {
 
     /// Reverts the changes recorded since `mark`, newest first.
     pub fn undo(&mut self, mark: usize) {
-        let (mut created, mut replaced, mut stamps) = std::mem::take(&mut self.undone);
+        let mut change = std::mem::take(&mut self.undone);
         while self.journal.len() > mark {
-            if !self
-                .journal
-                .pop_into(&mut created, &mut replaced, &mut stamps)
-            {
+            if !self.journal.pop_into(&mut change) {
                 break;
             }
             let was = std::mem::replace(&mut self.journaling, false);
             // The inverse of a checked change is valid, so this cannot be refused.
-            let r = self.replace_positive(&created, &replaced);
+            let r = self.replace_positive(&change.created, &change.replaced);
             debug_assert!(r.is_ok(), "undo refused: {r:?}");
-            self.stamps.restore(&stamps);
+            self.stamps.restore(&change.stamps);
             self.journaling = was;
         }
-        self.undone = (created, replaced, stamps);
+        self.undone = change;
     }
 
     /// Stops recording and forgets the log.
