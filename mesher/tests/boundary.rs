@@ -242,6 +242,22 @@ fn turbine_seeds_that_once_failed_are_recovered_exactly() {
     }
 }
 
+/// Anchor with insertion seed 2 once failed every attempt: interior Steiner points
+/// made for stuck edges of its flat face x = 0.5 came out 1e-6 off that face, blocked
+/// every edge near them, and the split rounds ran away (13 stuck edges, then 388).
+/// Crossing points are now kept off the planes of the stuck edge's triangles.
+#[test]
+fn anchor_seed_that_once_failed_is_recovered_exactly() {
+    let rel = "cgal/meshes/anchor.off";
+    let Some(s) = corpus(rel) else { return };
+    let options = BoundaryOptions {
+        seed: 2,
+        ..BoundaryOptions::default()
+    };
+    let r = recover_with(rel, &s, &options);
+    assert_eq!(r.steiner_on_edges, 0, "{rel} seed 2");
+}
+
 /// With the Steiner and split rounds switched off, a model that needs them ends in a
 /// typed error naming a stuck entity with its coordinates (or, if flips suffice after
 /// all, in a valid mesh), in bounded time, never a panic or a wrong mesh.

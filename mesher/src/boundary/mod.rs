@@ -62,6 +62,10 @@ use std::collections::HashMap;
 use std::time::Instant;
 use thiserror::Error;
 
+/// Least distance of an interior Steiner point for a stuck edge from the planes of the
+/// edge's surface triangles, relative to the edge's length (see `clear_of_faces`).
+const STEINER_CLEARANCE: f64 = 0.001;
+
 /// Passes over the missing edges (or faces) per round: recovering one can unblock
 /// another, so a pass that made progress is followed by another.
 const MAX_PASSES: usize = 4;
@@ -393,7 +397,8 @@ fn boundary_attempt(
                 match *s {
                     Entity::Edge(a, b, _) => {
                         let (ma, mb) = (cur.sv[a as usize].0, cur.sv[b as usize].0);
-                        fresh.extend(cur.rec.crossing_points(ma, mb));
+                        let points = cur.rec.crossing_points(ma, mb);
+                        fresh.extend(clear_of_faces(&work.surface, a, b, points));
                     }
                     Entity::Face(k) => {
                         fresh.extend(steiner_for_face(&work.surface, k, scale, round))
@@ -418,7 +423,8 @@ fn boundary_attempt(
                         // interior points where it is stuck as well.
                         let (ma, mb) = (cur.sv[a as usize].0, cur.sv[b as usize].0);
                         let t = cur.rec.blocker_parameter(ma, mb).unwrap_or(0.5);
-                        fresh.extend(cur.rec.crossing_points(ma, mb));
+                        let points = cur.rec.crossing_points(ma, mb);
+                        fresh.extend(clear_of_faces(&work.surface, a, b, points));
                         work.split_edge(a, b, t);
                     }
                     Entity::Face(k) => {
@@ -963,6 +969,34 @@ fn describe(surface: &Surface, e: Entity) -> String {
             )
         }
     }
+}
+
+/// The crossing points of stuck edge `ab`, each moved off the planes of the edge's
+/// surface triangles (along the plane's normal, on its side) to at least
+/// [`STEINER_CLEARANCE`] of the edge's length. A point nearly on such a plane blocks
+/// every edge of that face near it (each needs a tet with it, nearly flat), and the
+/// next round's crossing points near it come out nearer still: on anchor with another
+/// insertion order, points 1e-6 off a flat face made the split rounds run away (388
+/// edges stuck after 9 rounds, from 13). Inexact constructions.
+fn clear_of_faces(surface: &Surface, a: u32, b: u32, mut points: Vec<Point>) -> Vec<Point> {
+    let v = &surface.vertices;
+    let (pa, pb) = (v[a as usize], v[b as usize]);
+    let min = STEINER_CLEARANCE * (pb - pa).length();
+    for t in surface
+        .triangles
+        .iter()
+        .filter(|t| t.contains(&a) && t.contains(&b))
+    {
+        let [p, q, r] = t.map(|i| v[i as usize]);
+        let n = (q - p).cross(r - p).normalize_or_zero();
+        for x in &mut points {
+            let d = n.dot(*x - pa);
+            if d.abs() < min {
+                *x += n * (min.copysign(d) - d);
+            }
+        }
+    }
+    points
 }
 
 /// Interior Steiner points for a stuck triangle `k`: off its centroid on both sides of

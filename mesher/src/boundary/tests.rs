@@ -302,3 +302,40 @@ fn input_edges_are_the_sorted_unique_edges_with_their_first_triangle() {
     all.dedup_by_key(|x| (x.0, x.1));
     assert_eq!(input_edges(&s, EdgeOrder::Sorted), all);
 }
+
+#[test]
+fn crossing_points_are_kept_off_the_faces_of_their_edge() {
+    let s = cube(2);
+    let [a, b, _] = s.triangles[0];
+    let (pa, pb) = (s.vertices[a as usize], s.vertices[b as usize]);
+    let len = (pb - pa).length();
+    let tris: Vec<_> = s
+        .triangles
+        .iter()
+        .filter(|t| t.contains(&a) && t.contains(&b))
+        .collect();
+    assert_eq!(tris.len(), 2);
+    let mid = (pa + pb) * 0.5;
+    // On the edge itself (on both planes), just off it, and well clear.
+    let inward = -tris
+        .iter()
+        .map(|t| {
+            let [p, q, r] = t.map(|i| s.vertices[i as usize]);
+            (q - p).cross(r - p).normalize()
+        })
+        .sum::<Point>()
+        .normalize();
+    let far = mid + inward * 0.3 * len;
+    let moved = clear_of_faces(&s, a, b, vec![mid, mid + inward * 1e-9, far]);
+    for x in &moved[..2] {
+        for t in &tris {
+            let [p, q, r] = t.map(|i| s.vertices[i as usize]);
+            let n = (q - p).cross(r - p).normalize();
+            assert!(
+                n.dot(*x - pa).abs() >= 0.99 * STEINER_CLEARANCE * len,
+                "{x:?}"
+            );
+        }
+    }
+    assert_eq!(moved[2], far, "a point clear of the faces stays");
+}
