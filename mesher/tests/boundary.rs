@@ -5,7 +5,7 @@
 //! `scripts/fetch-corpus.sh` (`corpus/cache`); without them the corpus tests skip with a
 //! message, except under CI where they fail.
 
-use mesher::boundary::{boundary_mesh, BoundaryError, BoundaryOptions, BoundaryReport};
+use mesher::boundary::{boundary_mesh, BoundaryError, BoundaryOptions, BoundaryReport, EdgeOrder};
 use mesher::geom::predicates::{orient3d, Orientation};
 use mesher::geom::Point;
 use mesher::surface::generate::{cube, icosphere, torus};
@@ -250,12 +250,33 @@ fn turbine_seeds_that_once_failed_are_recovered_exactly() {
 fn anchor_seed_that_once_failed_is_recovered_exactly() {
     let rel = "cgal/meshes/anchor.off";
     let Some(s) = corpus(rel) else { return };
+    // `mesher boundary --seed 2`: insertion seed and shuffled edge order.
     let options = BoundaryOptions {
         seed: 2,
+        edge_order: EdgeOrder::Shuffled(2),
         ..BoundaryOptions::default()
     };
     let r = recover_with(rel, &s, &options);
     assert_eq!(r.steiner_on_edges, 0, "{rel} seed 2");
+}
+
+/// Cheese with insertion seed and edge order 3 kept 21 split points on its edges: the
+/// recovery splits edges whose split points no flip takes out again. A
+/// success with split points left is now followed by the shuffled orders, and the best
+/// is kept.
+#[test]
+fn cheese_seed_with_split_edges_is_retried_in_other_orders() {
+    let rel = "cgal/meshes/cheese.off";
+    let Some(s) = corpus(rel) else { return };
+    // `mesher boundary --seed 3`: insertion seed and shuffled edge order.
+    let options = BoundaryOptions {
+        seed: 3,
+        edge_order: EdgeOrder::Shuffled(3),
+        ..BoundaryOptions::default()
+    };
+    let r = recover_with(rel, &s, &options);
+    assert_eq!(r.steiner_on_edges, 0, "{rel} seed 3");
+    assert!(r.attempts > 1, "{rel} seed 3: {} attempts", r.attempts);
 }
 
 /// With the Steiner and split rounds switched off, a model that needs them ends in a
