@@ -75,6 +75,14 @@ const MAX_PASSES: usize = 4;
 /// (long thin coplanar triangles) they stay stuck as often as the old ones.
 pub const STALLED_SPLIT_ROUNDS: usize = 5;
 
+/// A split round that leaves more than [`RUNAWAY`] times the fewest stuck entities of
+/// the split rounds so far, plus [`RUNAWAY_SLACK`], ends the attempt: such rounds went
+/// on to hundreds of stuck edges (anchor, cheese with other insertion orders), seconds
+/// of work before the stall test ended them.
+const RUNAWAY: usize = 2;
+/// See [`RUNAWAY`].
+const RUNAWAY_SLACK: usize = 8;
+
 /// Parameters of the boundary mesh; the defaults follow NOTES.md §1.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BoundaryOptions {
@@ -406,6 +414,11 @@ fn boundary_attempt(
                 }
             }
         } else if round < rounds {
+            // Split rounds that run away (each split leaving more stuck pieces than it
+            // fixes) do not come back: the attempt ends, the next order is tried.
+            if split_best.0 != usize::MAX && stuck.len() > RUNAWAY * split_best.0 + RUNAWAY_SLACK {
+                break;
+            }
             if stuck.len() < split_best.0 {
                 split_best = (stuck.len(), 0);
             } else {
