@@ -5,8 +5,8 @@
 //! The child writes stdout and stderr to files in the run's work directory (no pipe can
 //! fill up and block it). The wait wakes when the child exits (a pidfd polled with the
 //! time left; `wait4` polling as a fallback on kernels without pidfds), so the wall time
-//! is exact to the wake-up, not to a polling period. Nothing here panics: every failure is a [`RunError`] or a
-//! field of [`ProcessStats`].
+//! is exact to the wake-up, not to a polling period. Nothing here panics: every failure
+//! is a [`RunError`] or a field of [`ProcessStats`].
 
 use super::{ProcessStats, RunError};
 use std::os::unix::process::CommandExt;

@@ -62,6 +62,8 @@ pub fn boundary_mesh(
     }
     match best {
         Some((opts, r)) => Ok(kept(surface, &opts, r, attempts, t0)),
+        // Every attempt ran and failed, so `first_error` is set; the default is not
+        // reached.
         None => Err(first_error.unwrap_or(BoundaryError::Unrecovered {
             edges: 0,
             faces: 0,

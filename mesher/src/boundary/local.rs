@@ -128,9 +128,6 @@ struct Undone {
     stamps: Vec<(u32, u32)>,
 }
 
-/// A face key: sorted vertex ids (packed, smallest in the high bits: the order of the
-/// sorted triples) and whether the given order is an even permutation of
-/// the sorted one.
 /// Steps of the walk in a star before it falls back to the whole star.
 const WALK_STEPS: usize = 512;
 
@@ -141,6 +138,9 @@ enum Walk {
     Unsure,
 }
 
+/// A face key: sorted vertex ids (packed, smallest in the high bits: the order of the
+/// sorted triples) and whether the given order is an even permutation of the
+/// sorted one.
 fn face_key(f: [u32; 3]) -> (u128, bool) {
     let mut s = f;
     let mut even = true;

@@ -421,7 +421,12 @@ fn boundary_attempt(
         } else if round < rounds {
             // Split rounds that run away (each split leaving more stuck pieces than it
             // fixes) do not come back: the attempt ends, the next order is tried.
-            if split_best.0 != usize::MAX && stuck.len() > RUNAWAY * split_best.0 + RUNAWAY_SLACK {
+            if stuck.len()
+                > split_best
+                    .0
+                    .saturating_mul(RUNAWAY)
+                    .saturating_add(RUNAWAY_SLACK)
+            {
                 break;
             }
             if stuck.len() < split_best.0 {

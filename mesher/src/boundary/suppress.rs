@@ -541,7 +541,6 @@ fn sorted(mut f: [u32; 3]) -> [u32; 3] {
     f
 }
 
-/// True when tet `t` has vertex `m` (it is in the star of `m`, on the other side).
 /// One side of a point's star to grow (see [`Recovery::grown_side`]): the point, the
 /// side's tets (also as a set), its rim (boundary faces away from `m`, with the tet
 /// behind each) and the cut faces the cone must also see.
@@ -584,6 +583,7 @@ impl Added {
     }
 }
 
+/// True when tet `t` has vertex `m` (it is in the star of `m`, on the other side).
 fn side_of_star(r: &Recovery, t: u32, m: u32) -> bool {
     r.l.tet(t).contains(&m)
 }
