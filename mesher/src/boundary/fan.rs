@@ -6,8 +6,9 @@
 //! robustness in meshing an arbitrary polyhedron", IJNME 2003.
 
 use super::recover::Recovery;
+use crate::geom::chebyshev::{chebyshev_centre, HalfSpace};
 use crate::geom::predicates::Orientation;
-use crate::geom::Point;
+use crate::geom::{Aabb, Point};
 use crate::tetmesh::FACE_VERTICES;
 
 impl Recovery {
@@ -173,7 +174,15 @@ impl Recovery {
     }
 
     /// A point strictly on the positive side of every face (inexact search, exact
-    /// check), or `None`: a compass search maximising the smallest scaled volume.
+    /// check), or `None`: a compass search maximising the smallest scaled volume, then,
+    /// when it stalls on a ridge of that piecewise linear function, the Chebyshev
+    /// centre of the faces' half-spaces (a linear program). The fallback only, so that
+    /// what the compass search finds stays as it was. Over the default order and seeds
+    /// 1-10: turbine's, anchor's and cheese's orders that needed several attempts
+    /// went from 2, 1 and 7 to 0, 0 and 6; cheese's orders with split points left from
+    /// 3 to 1; mean time turbine 0.227 -> 0.180 s, anchor 0.207 -> 0.083 s, cheese
+    /// 1.17 -> 0.95 s; the interior Steiner points, summed over the 11 orders, 92 -> 101,
+    /// 199 -> 202, 322 -> 323.
     pub(super) fn kernel_point(&self, faces: &[[u32; 3]]) -> Option<Point> {
         let pts: Vec<[Point; 3]> = faces.iter().map(|f| f.map(|v| self.l.p(v))).collect();
         let n = (pts.len() * 3) as f64;
@@ -219,9 +228,28 @@ impl Recovery {
                 }
             }
         }
-        let ok = pts.iter().all(|[a, b, d]| {
-            crate::geom::predicates::orient3d(*a, *b, *d, c) == Orientation::Positive
-        });
-        ok.then_some(c)
+        let sees_all = |c: Point| {
+            pts.iter().all(|[a, b, d]| {
+                crate::geom::predicates::orient3d(*a, *b, *d, c) == Orientation::Positive
+            })
+        };
+        if sees_all(c) {
+            return Some(c);
+        }
+        // The compass search stalls on the ridges of its piecewise linear objective; the
+        // linear program finds the kernel's centre when there is one.
+        let halves: Vec<HalfSpace> = pts
+            .iter()
+            .map(|[a, b, d]| {
+                let normal = (*b - *a).cross(*d - *a);
+                HalfSpace {
+                    normal,
+                    offset: normal.dot(*a),
+                }
+            })
+            .collect();
+        let bounds = Aabb::of_points(pts.iter().flatten())?;
+        let (centre, radius) = chebyshev_centre(&halves, bounds.min, bounds.max)?;
+        (radius > 0.0 && sees_all(centre)).then_some(centre)
     }
 }

@@ -1,6 +1,7 @@
 //! Geometry: the point type, exact predicates (sealed in [`predicates`]) and inexact
 //! constructions, which are named as such.
 
+pub mod chebyshev;
 pub mod predicates;
 
 /// A point or vector of 3D space.
