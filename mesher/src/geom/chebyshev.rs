@@ -20,6 +20,10 @@ const PIVOTS_PER_COLUMN: usize = 8;
 /// Zero, for data scaled to unit size.
 const EPS: f64 = 1e-11;
 
+/// Smallest pivot: smaller ones would magnify the rounding of the tableau (a centre
+/// off its planes by 1e-3 was seen with 1e-11).
+const MIN_PIVOT: f64 = 1e-9;
+
 /// A half-space `{x : normal · x >= offset}` (any non-zero `normal`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HalfSpace {
@@ -29,7 +33,9 @@ pub struct HalfSpace {
 
 /// The centre and radius of the largest ball inside the half-spaces and the box
 /// `[lo, hi]` (which keeps the program bounded). The radius is negative or zero when
-/// the intersection has no interior. `None` when the simplex method gives up (bound on
+/// the intersection has no interior; it is measured at the centre returned (the
+/// distance to its nearest plane), so rounding in the simplex method cannot overstate
+/// it. `None` when the simplex method gives up (bound on
 /// pivots, or a degenerate normal).
 pub fn chebyshev_centre(halves: &[HalfSpace], lo: Point, hi: Point) -> Option<(Point, f64)> {
     // Scale to the box: centre at the origin, half diagonal 1.
@@ -53,7 +59,12 @@ pub fn chebyshev_centre(halves: &[HalfSpace], lo: Point, hi: Point) -> Option<(P
     if rows.iter().any(|r| !r.1.is_finite()) {
         return None;
     }
-    let (y, t) = solve_dual(&rows)?;
+    let (y, _) = solve_dual(&rows)?;
+    // The radius the centre really has (the tableau's optimum carries its rounding).
+    let t = rows
+        .iter()
+        .map(|(n, d)| n.dot(y) - d)
+        .fold(f64::INFINITY, f64::min);
     Some((centre + y * scale, t * scale))
 }
 
@@ -107,7 +118,7 @@ impl Tableau {
             let mut leave: Option<(f64, usize, usize)> = None;
             for i in 0..4 {
                 let x = self.a[j][i];
-                if x > EPS {
+                if x > MIN_PIVOT {
                     let ratio = self.rhs[i] / x;
                     let better = leave.is_none_or(|(r, _, b)| {
                         ratio < r - EPS || (ratio <= r + EPS && self.basis[i] < b)
@@ -174,7 +185,45 @@ fn solve_dual(rows: &[(Point, f64)]) -> Option<(Point, f64)> {
     // The program solved is the dual of: maximise y_t subject to
     // n_i · y_x + y_t <= -d_i, that is the primal with x = -y_x and t = y_t.
     let (x, t) = (-Point::new(y[0], y[1], y[2]), y[3]);
+    // The four planes of the final basis are tight at the optimum: solved again from
+    // the data, the centre loses the tableau's accumulated rounding.
+    let tight = tab.basis.map(|j| rows.get(j).copied());
+    let (x, t) = match tight {
+        [Some(a), Some(b), Some(c), Some(d)] => {
+            let rows = [a, b, c, d].map(|(n, d)| ([n.x, n.y, n.z, -1.0], d));
+            match solve4(rows) {
+                Some(v) => (Point::new(v[0], v[1], v[2]), v[3]),
+                None => (x, t),
+            }
+        }
+        _ => (x, t),
+    };
     (x.is_finite() && t.is_finite()).then_some((x, t))
+}
+
+/// The solution of four linear equations (Gaussian elimination with partial
+/// pivoting), or `None` when they are (nearly) singular.
+fn solve4(mut rows: [([f64; 4], f64); 4]) -> Option<[f64; 4]> {
+    for col in 0..4 {
+        let p = (col..4).max_by(|&i, &j| rows[i].0[col].abs().total_cmp(&rows[j].0[col].abs()))?;
+        if rows[p].0[col].abs() < MIN_PIVOT {
+            return None;
+        }
+        rows.swap(col, p);
+        for r in col + 1..4 {
+            let f = rows[r].0[col] / rows[col].0[col];
+            for k in col..4 {
+                rows[r].0[k] -= f * rows[col].0[k];
+            }
+            rows[r].1 -= f * rows[col].1;
+        }
+    }
+    let mut v = [0.0; 4];
+    for col in (0..4).rev() {
+        let s: f64 = (col + 1..4).map(|k| rows[col].0[k] * v[k]).sum();
+        v[col] = (rows[col].1 - s) / rows[col].0[col];
+    }
+    Some(v)
 }
 
 #[cfg(test)]
