@@ -252,6 +252,27 @@ fn turbine_flat_tet_between_thin_walls_is_lifted() {
     );
 }
 
+/// Regression (dino, CGAL data): a sliver of four boundary vertices with two faces on
+/// a nearly flat part of the surface stayed at Q_K 47.8 (Q_t 8.97): no cavity of the
+/// point insertion (the tet, its neighbours, the rings of its free edges) had a point
+/// that lifts it. The cavity grown by 4 layers of face neighbours does (its kernel
+/// centre, then the compass search); the worst is then 13.0, within the 2 Q_t bar of
+/// issue 6.
+#[test]
+fn dino_sliver_under_a_flat_surface_is_lifted() {
+    let Some(s) = corpus("cgal/meshes/dino.off") else {
+        return;
+    };
+    let (_, r) = check("dino", &s, &Params::default());
+    let q_t = mesher::quality::target_quality(&s.vertices, &s.triangles).q_t;
+    let o = r.optimize.expect("the optimisation ran");
+    assert!(
+        o.worst_after <= 2.0 * q_t,
+        "worst {} vs Q_t {q_t}",
+        o.worst_after
+    );
+}
+
 /// Regression (armadillo, CGAL data): a tet of four boundary vertices across a fold of
 /// the surface (two of its faces on it) stayed at Q_K 17.8 when the front's target
 /// length was 1.2: its only free edge's ring admits a cone of worst Q_K about 5, from

@@ -10,7 +10,8 @@
 //! the tets worse than a fraction of the current worst, and the bad tets sharing a
 //! vertex with them, while the worst drops (the operations around a tet may have
 //! opened a way since it failed; a flat tet between narrow walls is often freed only
-//! once its neighbours have changed).
+//! once its neighbours have changed). Last, while the worst tet has four fixed vertices,
+//! a point in a cavity grown around it (`Ops::insert_grown_around`).
 //!
 //! Guarantees, by construction: an operation is applied only if the worst `Q_K` of the
 //! tets it touches strictly drops, so the worst `Q_K` of the mesh never rises; every new
@@ -200,6 +201,30 @@ pub fn optimize(domain: &mut Domain, options: &OptimizeOptions) -> OptimizeRepor
         if !improved {
             break;
         }
+    }
+    // The last resort: while the worst tet has four fixed vertices, a point in a cavity
+    // grown around it, then a polishing pass around the point.
+    for _ in 0..options.polish_passes {
+        let Some(&(q, t, _)) = bad
+            .iter()
+            .max_by(|a, b| a.0.total_cmp(&b.0).then(b.1.cmp(&a.1)))
+        else {
+            break;
+        };
+        let tp = Instant::now();
+        if !options.insert || q < worst || !ops.insert_grown_around(t) {
+            break;
+        }
+        ops.l.forget();
+        (bad, _, _) = scan(&ops, options.bad_quality);
+        let bar = options.bad_quality.max(q * options.polish_fraction);
+        let mut stats = pass(&mut ops, options, bar, &mut failed, true, bad);
+        stats.inserted += 1;
+        (bad, after, worst_after) = scan(&ops, options.bad_quality);
+        stats.worst = worst_after;
+        stats.seconds = tp.elapsed().as_secs_f64();
+        worst = worst_after;
+        passes.push(stats);
     }
     domain.mesh = ops.l.mesh;
     domain.region = ops.region;

@@ -20,8 +20,9 @@
 use super::Smoothing;
 use crate::boundary::flips::{best_triangulation_above, Locks, MAX_RING};
 use crate::boundary::local::Local;
+use crate::geom::chebyshev::{chebyshev_centre, HalfSpace};
 use crate::geom::predicates::Orientation;
-use crate::geom::Point;
+use crate::geom::{Aabb, Point};
 use crate::quality::tet::{q_k, signed_volume};
 use crate::tetmesh::{FaceRef, FACE_VERTICES};
 use crate::FastMap;
@@ -439,6 +440,94 @@ impl Ops {
         cone.after < cone.before && self.cone_apply(&cavities[k].0, cone, r)
     }
 
+    /// The last resort for the worst tet when it has four fixed vertices: a point
+    /// inserted over the tet grown by 2, 3, then [`GROWN_LAYERS`] layers of face
+    /// neighbours ([`Ops::insert_grown`]). A sliver on a nearly flat part of the surface
+    /// (two of its faces on it) is lifted only by a point that re-cones the tets
+    /// around it too; the valid points then lie in a thin lens.
+    pub fn insert_grown_around(&mut self, t: u32) -> bool {
+        let r = self.region_of(t);
+        if r == 0 || self.l.is_ghost(t) {
+            return false;
+        }
+        let fixed = self
+            .l
+            .tet(t)
+            .iter()
+            .all(|&x| self.fixed.get(x as usize) == Some(&true));
+        fixed && (2..=GROWN_LAYERS).any(|layers| self.insert_grown(t, r, layers))
+    }
+
+    /// [`Ops::insert_in`] over the tet `t` grown by `layers` layers of face neighbours in
+    /// region `r` (never across a constrained face), with the compass search; refused
+    /// when the cavity would hold a vertex or a constrained face inside.
+    fn insert_grown(&mut self, t: u32, r: u32, layers: usize) -> bool {
+        let mut cavity = vec![t];
+        let mut start = 0;
+        for _ in 0..layers {
+            let end = cavity.len();
+            for k in start..end {
+                let c = cavity[k];
+                let v = self.l.tet(c);
+                let adj = self.l.adj(c);
+                for (i, fv) in FACE_VERTICES.iter().enumerate() {
+                    let u = FaceRef::from_raw(adj[i]).tet().0;
+                    if !cavity.contains(&u)
+                        && !self.l.is_ghost(u)
+                        && self.region_of(u) == r
+                        && !self.locks.face(fv.map(|j| v[j]))
+                    {
+                        cavity.push(u);
+                    }
+                }
+            }
+            start = end;
+            if cavity.len() > MAX_GROWN_CAVITY {
+                return false;
+            }
+        }
+        // No constrained face between two of its tets (reached around it).
+        let inner_lock = cavity.iter().any(|&c| {
+            let v = self.l.tet(c);
+            let adj = self.l.adj(c);
+            FACE_VERTICES.iter().enumerate().any(|(i, fv)| {
+                cavity.contains(&FaceRef::from_raw(adj[i]).tet().0)
+                    && self.locks.face(fv.map(|j| v[j]))
+            })
+        });
+        if inner_lock {
+            return false;
+        }
+        let Some(mut cone) = self.cone_plan(&cavity, None) else {
+            return false;
+        };
+        // Every vertex of the cavity stays: on one of its boundary faces.
+        let on_faces: Vec<u32> = cone.faces.iter().flatten().copied().collect();
+        if cavity
+            .iter()
+            .flat_map(|&c| self.l.tet(c))
+            .any(|x| !on_faces.contains(&x))
+        {
+            return false;
+        }
+        // The centre of the cavity's kernel (the point farthest inside all its faces)
+        // as a start: the valid points often lie in a thin lens that the other
+        // candidates miss.
+        if let Some(c) = self.kernel_centre(&cone.faces) {
+            let s = self.cone_score(&cone.faces, c, cone.after);
+            if s < cone.after {
+                (cone.after, cone.p) = (s, c);
+            }
+        }
+        (cone.after, cone.p) = compass(
+            |q| self.cone_score(&cone.faces, q, cone.after),
+            cone.p,
+            cone.after,
+            0.125 * cone.span,
+        );
+        cone.after < cone.before && self.cone_apply(&cavity, cone, r)
+    }
+
     /// The faces of `cavity`'s boundary and the best new point for the cone over them,
     /// among a few candidates: the mean of the ideal points of the faces, each face's
     /// ideal point, the centroid, `extra`. `None` for an empty cavity.
@@ -499,6 +588,25 @@ impl Ops {
             return f64::INFINITY;
         }
         max_until(faces.iter().map(|f| q_k(&pts(f))), bound)
+    }
+
+    /// The Chebyshev centre of the half-spaces of `faces` (each with the region on its
+    /// positive side), when it has a positive radius.
+    fn kernel_centre(&self, faces: &[[u32; 3]]) -> Option<Point> {
+        let pts: Vec<[Point; 3]> = faces.iter().map(|f| f.map(|x| self.l.p(x))).collect();
+        let halves: Vec<HalfSpace> = pts
+            .iter()
+            .map(|[a, b, c]| {
+                let normal = (*b - *a).cross(*c - *a);
+                HalfSpace {
+                    normal,
+                    offset: normal.dot(*a),
+                }
+            })
+            .collect();
+        let bounds = Aabb::of_points(pts.iter().flatten())?;
+        let (centre, radius) = chebyshev_centre(&halves, bounds.min, bounds.max)?;
+        (radius > 0.0).then_some(centre)
     }
 
     /// Replaces `cavity` by the cone from `cone.p` over its faces.
@@ -563,6 +671,15 @@ struct Cone {
     /// Diagonal of the box of the cavity's vertices and `p`.
     span: f64,
 }
+
+/// Layers of face neighbours around a sliver of four fixed vertices for the last resort
+/// (from 2). On dino (CGAL data) the worst tet, a sliver under a nearly flat part of
+/// the surface at Q_K 47.8, is lifted with 4 layers (27 tets; worst then 13.0): with 2
+/// or 3 the cavity's kernel is empty.
+const GROWN_LAYERS: usize = 4;
+
+/// Largest grown cavity, in tets.
+const MAX_GROWN_CAVITY: usize = 64;
 
 /// Halvings of the compass search's step.
 const COMPASS_HALVINGS: usize = 12;
