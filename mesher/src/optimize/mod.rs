@@ -202,8 +202,8 @@ pub fn optimize(domain: &mut Domain, options: &OptimizeOptions) -> OptimizeRepor
             break;
         }
     }
-    // The last resort: while the worst tet has four fixed vertices, a point in a cavity
-    // grown around it, then a polishing pass around the point.
+    // The last resort for the worst tet (see `last_resort`), then a polishing pass
+    // around it, while that improves it.
     for _ in 0..options.polish_passes {
         let Some(&(q, t, _)) = bad
             .iter()
@@ -212,7 +212,7 @@ pub fn optimize(domain: &mut Domain, options: &OptimizeOptions) -> OptimizeRepor
             break;
         };
         let tp = Instant::now();
-        if !options.insert || q < worst || !ops.insert_grown_around(t) {
+        if q < worst || !last_resort(&mut ops, t, options) {
             break;
         }
         ops.l.forget();
@@ -223,8 +223,12 @@ pub fn optimize(domain: &mut Domain, options: &OptimizeOptions) -> OptimizeRepor
         (bad, after, worst_after) = scan(&ops, options.bad_quality);
         stats.worst = worst_after;
         stats.seconds = tp.elapsed().as_secs_f64();
+        let worth = worst_after < worst * (1.0 - LAST_RESORT_GAIN);
         worst = worst_after;
         passes.push(stats);
+        if !worth {
+            break;
+        }
     }
     domain.mesh = ops.l.mesh;
     domain.region = ops.region;
@@ -237,6 +241,27 @@ pub fn optimize(domain: &mut Domain, options: &OptimizeOptions) -> OptimizeRepor
         passes,
         seconds: t0.elapsed().as_secs_f64(),
     }
+}
+
+/// The last resort goes on while each round lowers the worst `Q_K` by this fraction: its
+/// polishing passes add points, and on a surface-bound worst (part1: 55.83 -> 55.76,
+/// Q_t 55.69) they went on for 0.1 % each and 16 % more tets.
+const LAST_RESORT_GAIN: f64 = 0.01;
+
+/// The last resort for the worst tet `t`, after the passes: a point in a cavity grown
+/// around it when its four vertices are fixed, else the compass search for a better
+/// position of one of its free vertices. Run only on the worst tet, after the passes,
+/// so that the models it does not help keep their mesh.
+fn last_resort(ops: &mut Ops, t: u32, options: &OptimizeOptions) -> bool {
+    let v = ops.l.tet(t);
+    let free: Vec<u32> = v
+        .into_iter()
+        .filter(|&x| ops.fixed.get(x as usize) == Some(&false))
+        .collect();
+    if free.is_empty() {
+        return options.insert && ops.insert_grown_around(t);
+    }
+    options.smoothing != Smoothing::Off && free.into_iter().any(|x| ops.smooth_search(x))
 }
 
 /// One pass over the tets above `bar`, and the bad tets (above

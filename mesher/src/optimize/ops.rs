@@ -10,7 +10,8 @@
 //! - Vertex smoothing (§6.3.1): the free vertex moves towards the mean of the ideal
 //!   points of its ball's faces (the apex of the regular tet on each face, on the
 //!   vertex's side), or towards the mean of its neighbours (Laplacian), by the longest
-//!   of a few halving steps that improves the ball.
+//!   of a few halving steps that improves the ball; as a last resort for the worst tet,
+//!   a compass search for the position that minimises the ball's worst `Q_K`.
 //! - Point insertion, the last resort: the cone from a new point over a small cavity
 //!   (the tet with its neighbours, the tet alone, the rings of its free edges). For a
 //!   tet of four fixed vertices the best candidate point is then improved by a compass
@@ -312,6 +313,65 @@ impl Ops {
         }
         self.l.set_point(v, old);
         false
+    }
+
+    /// Moves the free vertex `v` to where its ball's worst `Q_K` is lowest, by a compass
+    /// search from where it is: the last resort for a worst tet with a free vertex, at
+    /// a balance between several bad tets of the ball that the smoothing's targets do
+    /// not reach. Accepted if the worst drops and the ball stays exactly positive.
+    pub fn smooth_search(&mut self, v: u32) -> bool {
+        if self.fixed.get(v as usize) != Some(&false) {
+            return false;
+        }
+        let mut star = Vec::new();
+        self.l.star(v, &mut star);
+        if star.is_empty()
+            || star
+                .iter()
+                .any(|&t| self.l.is_ghost(t) || self.region_of(t) == 0)
+        {
+            return false;
+        }
+        let mut link: Vec<[u32; 3]> = Vec::with_capacity(star.len());
+        for &t in &star {
+            let tv = self.l.tet(t);
+            let Some(i) = (0..4).find(|&i| tv[i] == v) else {
+                return false;
+            };
+            link.push(FACE_VERTICES[i].map(|k| tv[k]));
+        }
+        let old = self.l.p(v);
+        let before = self.worst(&star);
+        // The first step: a quarter of the shortest edge at `v`.
+        let step = link
+            .iter()
+            .flatten()
+            .map(|&x| self.l.p(x).distance(old))
+            .fold(f64::INFINITY, f64::min)
+            * 0.25;
+        if !(step.is_finite() && step > 0.0) {
+            return false;
+        }
+        let (after, p) = compass(|q| self.cone_score(&link, q, before), old, before, step);
+        if after >= before {
+            return false;
+        }
+        self.l.set_point(v, p);
+        let positive = link
+            .iter()
+            .all(|f| self.l.orient(f[0], f[1], f[2], v) == Orientation::Positive);
+        if !positive {
+            self.l.set_point(v, old);
+            return false;
+        }
+        for &t in &star {
+            if let Some(entry) = self.qcache.get(t as usize) {
+                entry.set(STALE);
+            }
+        }
+        let verts: Vec<u32> = star.iter().flat_map(|&t| self.l.tet(t)).collect();
+        self.l.stamps.touch(verts);
+        true
     }
 
     /// Collapses the edge `xy` onto `x`: the free vertex `y` goes, and its ball becomes
