@@ -291,6 +291,41 @@ mod tests {
         assert!(h.iter().all(|s| s.normal.dot(c) > s.offset), "{c}");
     }
 
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(2000))]
+        /// Half-spaces around a point `c`, each `r_i` from it: the centre returned is at
+        /// least `min r_i` (up to rounding) inside every half-space, the radius it
+        /// reports is its true clearance, and no larger than the box allows.
+        #[test]
+        fn the_centre_is_as_deep_as_a_known_interior_point(
+            c in proptest::array::uniform3(-1.0f64..1.0),
+            planes in proptest::collection::vec(
+                (proptest::array::uniform3(-1.0f64..1.0), 0.01f64..1.0),
+                1..40,
+            ),
+        ) {
+            let c = Point::from(c);
+            let halves: Vec<HalfSpace> = planes
+                .iter()
+                .filter_map(|&(n, r)| {
+                    let n = Point::from(n);
+                    (n.length() > 1e-3).then(|| {
+                        let n = n.normalize();
+                        HalfSpace { normal: n, offset: n.dot(c) - r }
+                    })
+                })
+                .collect();
+            let depth = planes.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
+            let (x, radius) =
+                chebyshev_centre(&halves, Point::splat(-3.0), Point::splat(3.0)).unwrap();
+            proptest::prop_assert!(radius >= depth - 1e-9, "{radius} < {depth}");
+            for h in &halves {
+                proptest::prop_assert!(h.normal.dot(x) - h.offset >= radius - 1e-9);
+            }
+            proptest::prop_assert!(radius <= 3.0 + 1e-9);
+        }
+    }
+
     #[test]
     fn an_empty_intersection_has_no_positive_radius() {
         let h = [
