@@ -233,23 +233,29 @@ fn optimisation_removes_the_slivers_of_a_sphere() {
     assert!(without.optimize.is_none());
 }
 
+/// Meshes the corpus model at `rel` (skipped when absent) with the default parameters
+/// and checks that its worst Q_K after optimisation is at most `factor` Q_t.
+fn worst_within(rel: &str, factor: f64) {
+    let Some(s) = corpus(rel) else {
+        return;
+    };
+    let (_, r) = check(rel, &s, &Params::default());
+    let q_t = mesher::quality::target_quality(&s.vertices, &s.triangles).q_t;
+    let o = r.optimize.expect("the optimisation ran");
+    assert!(
+        o.worst_after <= factor * q_t,
+        "{rel}: worst {} vs Q_t {q_t}",
+        o.worst_after
+    );
+}
+
 /// Regression (turbine, CGAL data): a flat tet on two coplanar boundary faces of a
 /// thin blade, between neighbours almost as flat, stayed at Q_K 189,965 because the
 /// polishing passes retried it alone; its neighbours must change first. The surface
 /// allows Q_t = 178 there; the bar is 2 Q_t (issue 6).
 #[test]
 fn turbine_flat_tet_between_thin_walls_is_lifted() {
-    let Some(s) = corpus("cgal/meshes/turbine.off") else {
-        return;
-    };
-    let (_, r) = check("turbine", &s, &Params::default());
-    let q_t = mesher::quality::target_quality(&s.vertices, &s.triangles).q_t;
-    let o = r.optimize.expect("the optimisation ran");
-    assert!(
-        o.worst_after <= 2.0 * q_t,
-        "worst {} vs Q_t {q_t}",
-        o.worst_after
-    );
+    worst_within("cgal/meshes/turbine.off", 2.0);
 }
 
 /// Regression (dino, CGAL data): a sliver of four boundary vertices with two faces on
@@ -260,17 +266,7 @@ fn turbine_flat_tet_between_thin_walls_is_lifted() {
 /// issue 6.
 #[test]
 fn dino_sliver_under_a_flat_surface_is_lifted() {
-    let Some(s) = corpus("cgal/meshes/dino.off") else {
-        return;
-    };
-    let (_, r) = check("dino", &s, &Params::default());
-    let q_t = mesher::quality::target_quality(&s.vertices, &s.triangles).q_t;
-    let o = r.optimize.expect("the optimisation ran");
-    assert!(
-        o.worst_after <= 2.0 * q_t,
-        "worst {} vs Q_t {q_t}",
-        o.worst_after
-    );
+    worst_within("cgal/meshes/dino.off", 2.0);
 }
 
 /// Regression (rotor_small, CGAL data): a free vertex 0.0026 from a cluster of boundary
@@ -280,17 +276,7 @@ fn dino_sliver_under_a_flat_surface_is_lifted() {
 /// against the old failure (4 Q_t), not issue 6's 2 Q_t, which this model still misses.
 #[test]
 fn rotor_small_vertex_crowded_by_the_boundary_is_moved() {
-    let Some(s) = corpus("cgal/meshes/rotor_small.off") else {
-        return;
-    };
-    let (_, r) = check("rotor_small", &s, &Params::default());
-    let q_t = mesher::quality::target_quality(&s.vertices, &s.triangles).q_t;
-    let o = r.optimize.expect("the optimisation ran");
-    assert!(
-        o.worst_after <= 4.0 * q_t,
-        "worst {} vs Q_t {q_t}",
-        o.worst_after
-    );
+    worst_within("cgal/meshes/rotor_small.off", 4.0);
 }
 
 /// Regression (armadillo, CGAL data): a tet of four boundary vertices across a fold of

@@ -6,9 +6,9 @@
 //! robustness in meshing an arbitrary polyhedron", IJNME 2003.
 
 use super::recover::Recovery;
-use crate::geom::chebyshev::{chebyshev_centre, HalfSpace};
+use crate::geom::chebyshev::kernel_centre;
 use crate::geom::predicates::Orientation;
-use crate::geom::{Aabb, Point};
+use crate::geom::Point;
 use crate::tetmesh::FACE_VERTICES;
 
 impl Recovery {
@@ -238,18 +238,7 @@ impl Recovery {
         }
         // The compass search stalls on the ridges of its piecewise linear objective; the
         // linear program finds the kernel's centre when there is one.
-        let halves: Vec<HalfSpace> = pts
-            .iter()
-            .map(|[a, b, d]| {
-                let normal = (*b - *a).cross(*d - *a);
-                HalfSpace {
-                    normal,
-                    offset: normal.dot(*a),
-                }
-            })
-            .collect();
-        let bounds = Aabb::of_points(pts.iter().flatten())?;
-        let (centre, radius) = chebyshev_centre(&halves, bounds.min, bounds.max)?;
+        let (centre, radius) = kernel_centre(&pts)?;
         (radius > 0.0 && sees_all(centre)).then_some(centre)
     }
 }

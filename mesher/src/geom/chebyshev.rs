@@ -68,6 +68,24 @@ pub fn chebyshev_centre(halves: &[HalfSpace], lo: Point, hi: Point) -> Option<(P
     Some((centre + y * scale, t * scale))
 }
 
+/// [`chebyshev_centre`] of the positive sides of triangles (`orient3d(a, b, c, p) > 0`
+/// for `p` inside: the kernel of a region whose boundary faces they are), bounded by
+/// their box; `None` for no triangle or when the simplex method gives up.
+pub fn kernel_centre(triangles: &[[Point; 3]]) -> Option<(Point, f64)> {
+    let halves: Vec<HalfSpace> = triangles
+        .iter()
+        .map(|[a, b, c]| {
+            let normal = (*b - *a).cross(*c - *a);
+            HalfSpace {
+                normal,
+                offset: normal.dot(*a),
+            }
+        })
+        .collect();
+    let bounds = super::Aabb::of_points(triangles.iter().flatten())?;
+    chebyshev_centre(&halves, bounds.min, bounds.max)
+}
+
 /// The tableau of the dual: 4 rows, `m` columns of `λ` then 4 artificials, and the
 /// right-hand side.
 struct Tableau {

@@ -21,9 +21,8 @@
 use super::Smoothing;
 use crate::boundary::flips::{best_triangulation_above, Locks, MAX_RING};
 use crate::boundary::local::Local;
-use crate::geom::chebyshev::{chebyshev_centre, HalfSpace};
 use crate::geom::predicates::Orientation;
-use crate::geom::{Aabb, Point};
+use crate::geom::Point;
 use crate::quality::tet::{q_k, signed_volume};
 use crate::tetmesh::{FaceRef, FACE_VERTICES};
 use crate::FastMap;
@@ -242,7 +241,9 @@ impl Ops {
         self.unless_failed((v, v, Kind::Smooth), |o| o.smooth_now(v, how))
     }
 
-    fn smooth_now(&mut self, v: u32, how: Smoothing) -> bool {
+    /// The star of `v` (all in the domain, no ghost) and its link: the faces opposite
+    /// `v`, each as its tet lists it (`v` on the positive side); `None` otherwise.
+    fn ball(&self, v: u32) -> Option<(Vec<u32>, Vec<[u32; 3]>)> {
         let mut star = Vec::new();
         self.l.star(v, &mut star);
         if star.is_empty()
@@ -250,16 +251,23 @@ impl Ops {
                 .iter()
                 .any(|&t| self.l.is_ghost(t) || self.region_of(t) == 0)
         {
+            return None;
+        }
+        let link = star
+            .iter()
+            .map(|&t| {
+                let tv = self.l.tet(t);
+                let i = (0..4).find(|&i| tv[i] == v)?;
+                Some(FACE_VERTICES[i].map(|k| tv[k]))
+            })
+            .collect::<Option<Vec<_>>>()?;
+        Some((star, link))
+    }
+
+    fn smooth_now(&mut self, v: u32, how: Smoothing) -> bool {
+        let Some((star, link)) = self.ball(v) else {
             return false;
-        }
-        let mut link: Vec<[u32; 3]> = Vec::with_capacity(star.len());
-        for &t in &star {
-            let tv = self.l.tet(t);
-            let Some(i) = (0..4).find(|&i| tv[i] == v) else {
-                return false;
-            };
-            link.push(FACE_VERTICES[i].map(|k| tv[k]));
-        }
+        };
         // The optimal point first; where it does not help, the apex of the regular tet
         // on the face of the worst tet opposite the vertex (which lifts a sliver off its
         // flat direction), then the Laplacian point.
@@ -323,23 +331,9 @@ impl Ops {
         if self.fixed.get(v as usize) != Some(&false) {
             return false;
         }
-        let mut star = Vec::new();
-        self.l.star(v, &mut star);
-        if star.is_empty()
-            || star
-                .iter()
-                .any(|&t| self.l.is_ghost(t) || self.region_of(t) == 0)
-        {
+        let Some((star, link)) = self.ball(v) else {
             return false;
-        }
-        let mut link: Vec<[u32; 3]> = Vec::with_capacity(star.len());
-        for &t in &star {
-            let tv = self.l.tet(t);
-            let Some(i) = (0..4).find(|&i| tv[i] == v) else {
-                return false;
-            };
-            link.push(FACE_VERTICES[i].map(|k| tv[k]));
-        }
+        };
         let old = self.l.p(v);
         let before = self.worst(&star);
         // The first step: a quarter of the shortest edge at `v`.
@@ -654,18 +648,7 @@ impl Ops {
     /// positive side), when it has a positive radius.
     fn kernel_centre(&self, faces: &[[u32; 3]]) -> Option<Point> {
         let pts: Vec<[Point; 3]> = faces.iter().map(|f| f.map(|x| self.l.p(x))).collect();
-        let halves: Vec<HalfSpace> = pts
-            .iter()
-            .map(|[a, b, c]| {
-                let normal = (*b - *a).cross(*c - *a);
-                HalfSpace {
-                    normal,
-                    offset: normal.dot(*a),
-                }
-            })
-            .collect();
-        let bounds = Aabb::of_points(pts.iter().flatten())?;
-        let (centre, radius) = chebyshev_centre(&halves, bounds.min, bounds.max)?;
+        let (centre, radius) = crate::geom::chebyshev::kernel_centre(&pts)?;
         (radius > 0.0).then_some(centre)
     }
 
