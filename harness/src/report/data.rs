@@ -12,8 +12,9 @@ use crate::report::ReportError;
 pub const HARD_FACE_LIMIT: f64 = 0.01;
 
 /// Canonical order of the meshers in tables and legends; unknown ids follow, sorted.
-const MESHER_ORDER: [&str; 14] = [
+const MESHER_ORDER: [&str; 15] = [
     "ours",
+    "ours-front",
     "ours-boundary",
     "tetgen-y-boundary",
     "tetgen",

@@ -114,7 +114,8 @@ pub trait Runner {
 /// Every runner, in table order: each peer's default configuration, then its sized one.
 pub fn registry() -> Vec<Box<dyn Runner>> {
     vec![
-        Box::new(ours::Ours),
+        Box::new(ours::Ours::full()),
+        Box::new(ours::Ours::front_only()),
         Box::new(ours::OursBoundary),
         Box::new(tetgen::TetGen::boundary_only()),
         Box::new(tetgen::TetGen::default_switches()),
