@@ -294,6 +294,25 @@ fn armadillo_fold_tet_of_four_boundary_vertices_is_lifted() {
     assert!(o.worst_after < 13.2, "worst {}", o.worst_after);
 }
 
+/// Regression (part1, Netgen data): the smallest dihedral angle, in the worst tet (on a
+/// thin boundary face, Q_K 55.8 for Q_t 55.7), was 0.559°, below Gmsh HXT's 0.578°
+/// (whose worst Q_K is 81.5). The last step of the optimisation moves the free vertex
+/// of the tet with the smallest angle, as far as the ball's worst Q_K allows: 0.578°.
+#[test]
+fn part1_smallest_dihedral_angle_is_widened() {
+    let Some(s) = corpus("netgen/part1.stl") else {
+        return;
+    };
+    let (m, _) = check("part1", &s, &Params::default());
+    let vm = m.to_volume_mesh();
+    let smallest = vm
+        .tets
+        .iter()
+        .map(|t| mesher::quality::min_dihedral(&t.map(|v| vm.vertices[v as usize])))
+        .fold(f64::INFINITY, f64::min);
+    assert!(smallest > 0.577, "smallest dihedral angle {smallest}°");
+}
+
 /// Seed lattices deep inside a sphere (inserted before the first front) fill the
 /// interior at once: fewer iterations, less cavity work, fewer tets, the same quality.
 #[test]

@@ -14,9 +14,12 @@
 //! last resort for the worst tet: a point in a cavity grown around it when its four
 //! vertices are fixed (`Ops::insert_grown_around`), else a compass search for the
 //! position of one of its free vertices (`Ops::smooth_search`), then a polishing pass.
+//! Last of all, the smallest dihedral angle is widened by moving a free vertex of its
+//! tet (`Ops::widen_dihedral`), as far as its ball's worst `Q_K` allows.
 //!
 //! Guarantees, by construction: an operation is applied only if the worst `Q_K` of the
-//! tets it touches strictly drops, so the worst `Q_K` of the mesh never rises; every new
+//! tets it touches strictly drops (the widening: does not rise), so the worst `Q_K` of
+//! the mesh never rises; every new
 //! tet is exactly positive; constrained faces and their edges are never flipped and
 //! boundary vertices never move, so the boundary and the volume are unchanged.
 
@@ -235,6 +238,17 @@ pub fn optimize(domain: &mut Domain, options: &OptimizeOptions) -> OptimizeRepor
             break;
         }
     }
+    let widened = widen_smallest_angle(&mut ops, &bad, options);
+    if widened > 0 {
+        let tp = Instant::now();
+        (_, after, worst_after) = scan(&ops, options.bad_quality);
+        passes.push(PassStats {
+            smoothed: widened,
+            worst: worst_after,
+            seconds: tp.elapsed().as_secs_f64(),
+            ..PassStats::default()
+        });
+    }
     domain.mesh = ops.l.mesh;
     domain.region = ops.region;
     domain.fixed = ops.fixed;
@@ -270,6 +284,53 @@ fn last_resort(ops: &mut Ops, t: u32, options: &OptimizeOptions) -> Option<LastR
     let done =
         options.smoothing != Smoothing::Off && free.into_iter().any(|x| ops.smooth_search(x));
     done.then_some(LastResort::Moved)
+}
+
+/// Rounds of [`widen_smallest_angle`].
+const WIDEN_ROUNDS: usize = 32;
+
+/// Last of all, the smallest dihedral angle of the mesh: while one of the free vertices
+/// of the tet that has it can move to widen it ([`Ops::widen_dihedral`], which keeps
+/// the ball's worst `Q_K` and its well-shaped tets), it moves. The tet is sought among
+/// the bad tets (`Q_K` above `bad_quality`): a tet whose smallest angle is `θ` has
+/// `Q_K >= α / sin(θ / 2)` (its inscribed ball lies in the wedge of that angle, within
+/// its longest edge of the edge), so every angle below `2 asin(α / bad_quality)` (9.4°
+/// at 2.5) is in a bad tet, and above it the search stops. Returns the moves.
+fn widen_smallest_angle(ops: &mut Ops, bad: &[Bad], options: &OptimizeOptions) -> u64 {
+    if options.smoothing == Smoothing::Off {
+        return 0;
+    }
+    let bar = 2.0
+        * (crate::quality::ALPHA / options.bad_quality)
+            .min(1.0)
+            .asin();
+    let bar = bar.to_degrees();
+    // The bad tets, and the balls of the moved vertices (whose tets may have crossed
+    // `bad_quality` without reaching 3).
+    let mut angles: FastMap<u32, f64> = bad.iter().map(|b| (b.1, ops.min_dihedral(b.1))).collect();
+    let mut star = Vec::new();
+    let mut moves = 0;
+    for _ in 0..WIDEN_ROUNDS {
+        let smallest = angles
+            .iter()
+            .min_by(|a, b| a.1.total_cmp(b.1).then(a.0.cmp(b.0)))
+            .map(|(&t, &a)| (a, t));
+        let Some((angle, t)) = smallest else {
+            break;
+        };
+        if angle.is_nan() || angle >= bar {
+            break;
+        }
+        let Some(v) = ops.l.tet(t).into_iter().find(|&v| ops.widen_dihedral(v)) else {
+            break;
+        };
+        ops.l.star(v, &mut star);
+        for &u in &star {
+            angles.insert(u, ops.min_dihedral(u));
+        }
+        moves += 1;
+    }
+    moves
 }
 
 /// What [`last_resort`] did.

@@ -23,7 +23,7 @@ use crate::boundary::flips::{best_triangulation_above, Locks, MAX_RING};
 use crate::boundary::local::Local;
 use crate::geom::predicates::Orientation;
 use crate::geom::Point;
-use crate::quality::tet::{q_k, signed_volume};
+use crate::quality::tet::{min_dihedral, q_k, signed_volume, WELL_SHAPED_Q_K};
 use crate::tetmesh::{FaceRef, FACE_VERTICES};
 use crate::FastMap;
 use std::cell::Cell;
@@ -95,6 +95,11 @@ impl Ops {
     /// `Q_K` of a tet given by its vertices.
     pub fn quality(&self, t: [u32; 4]) -> f64 {
         q_k(&t.map(|v| self.l.p(v)))
+    }
+
+    /// Smallest dihedral angle of tet `t`, in degrees.
+    pub fn min_dihedral(&self, t: u32) -> f64 {
+        min_dihedral(&self.l.tet(t).map(|v| self.l.p(v)))
     }
 
     /// Region of tet slot `t` (0 outside or unknown).
@@ -308,13 +313,7 @@ impl Ops {
                         .all(|f| self.l.orient(f[0], f[1], f[2], v) == Orientation::Positive)
                 };
                 if self.worst_below(&star, before) < before && positive() {
-                    for &t in &star {
-                        if let Some(entry) = self.qcache.get(t as usize) {
-                            entry.set(STALE);
-                        }
-                    }
-                    let verts: Vec<u32> = star.iter().flat_map(|&t| self.l.tet(t)).collect();
-                    self.l.stamps.touch(verts);
+                    self.moved(&star);
                     return true;
                 }
             }
@@ -358,14 +357,76 @@ impl Ops {
             self.l.set_point(v, old);
             return false;
         }
-        for &t in &star {
+        self.moved(&star);
+        true
+    }
+
+    /// Moves the free vertex `v` where its ball's smallest dihedral angle is largest
+    /// (a compass search), under three conditions: no tet of the ball gets worse than
+    /// the ball's worst `Q_K`, none of its well-shaped tets (`Q_K` < 3) stops being so,
+    /// and every tet stays exactly positive. True when the smallest angle grew.
+    pub fn widen_dihedral(&mut self, v: u32) -> bool {
+        if self.fixed.get(v as usize) != Some(&false) {
+            return false;
+        }
+        let Some((star, link)) = self.ball(v) else {
+            return false;
+        };
+        let old = self.l.p(v);
+        let qs: Vec<f64> = star.iter().map(|&t| self.tet_quality(t)).collect();
+        let worst = qs.iter().copied().fold(1.0, f64::max);
+        // Minimised: minus the smallest angle; infinite where a condition fails.
+        let score = |p: Point| {
+            let mut angle = f64::INFINITY;
+            for (f, &q0) in link.iter().zip(&qs) {
+                let [a, b, c] = f.map(|x| self.l.p(x));
+                let t = [a, b, c, p];
+                if signed_volume(&t) <= 0.0 {
+                    return f64::INFINITY;
+                }
+                let q = q_k(&t);
+                if q > worst || (q0 < WELL_SHAPED_Q_K && q >= WELL_SHAPED_Q_K) {
+                    return f64::INFINITY;
+                }
+                angle = angle.min(min_dihedral(&t));
+            }
+            -angle
+        };
+        let before = score(old);
+        let step = link
+            .iter()
+            .flatten()
+            .map(|&x| self.l.p(x).distance(old))
+            .fold(f64::INFINITY, f64::min)
+            * 0.25;
+        if !(before.is_finite() && step.is_finite() && step > 0.0) {
+            return false;
+        }
+        let (after, p) = compass(score, old, before, step);
+        if after >= before {
+            return false;
+        }
+        self.l.set_point(v, p);
+        let positive = link
+            .iter()
+            .all(|f| self.l.orient(f[0], f[1], f[2], v) == Orientation::Positive);
+        if !positive {
+            self.l.set_point(v, old);
+            return false;
+        }
+        self.moved(&star);
+        true
+    }
+
+    /// Marks the tets of a moved vertex's ball as changed.
+    fn moved(&mut self, star: &[u32]) {
+        for &t in star {
             if let Some(entry) = self.qcache.get(t as usize) {
                 entry.set(STALE);
             }
         }
         let verts: Vec<u32> = star.iter().flat_map(|&t| self.l.tet(t)).collect();
         self.l.stamps.touch(verts);
-        true
     }
 
     /// Collapses the edge `xy` onto `x`: the free vertex `y` goes, and its ball becomes

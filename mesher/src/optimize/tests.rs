@@ -287,3 +287,42 @@ fn compass_search_finds_the_thin_valid_lens() {
     let (value, p) = super::ops::compass(score, start, score(start), 0.1);
     assert!(value < 1.0 + 1e-3, "{value} at {p:?}");
 }
+
+#[test]
+fn widening_a_dihedral_keeps_the_ball_worst_and_its_good_tets() {
+    // A random Delaunay mesh has slivers; the free vertex whose ball has the smallest
+    // angle is moved, and its ball must gain angle without losing Q_K or orientation.
+    use crate::quality::tet::{min_dihedral, q_k, WELL_SHAPED_Q_K};
+    let d = random_domain(300, 3);
+    let mut ops = super::ops::Ops::new(Local::new(d.mesh), Locks::default(), d.region, d.fixed);
+    let ball = |ops: &super::ops::Ops, v: u32| {
+        let mut star = Vec::new();
+        ops.l.star(v, &mut star);
+        star.iter()
+            .map(|&t| {
+                let p = ops.l.tet(t).map(|x| ops.l.p(x));
+                (min_dihedral(&p), q_k(&p), signed_volume(&p))
+            })
+            .collect::<Vec<_>>()
+    };
+    let free = (8..ops.l.mesh.num_vertices() as u32).filter(|&v| !ops.fixed[v as usize]);
+    let smallest = |b: &[(f64, f64, f64)]| b.iter().map(|x| x.0).fold(f64::INFINITY, f64::min);
+    let v = free
+        .min_by(|&a, &b| smallest(&ball(&ops, a)).total_cmp(&smallest(&ball(&ops, b))))
+        .expect("a free vertex");
+    let before = ball(&ops, v);
+    assert!(
+        ops.widen_dihedral(v),
+        "the smallest angle {} stayed",
+        smallest(&before)
+    );
+    let after = ball(&ops, v);
+    assert!(smallest(&after) > smallest(&before));
+    let worst = |b: &[(f64, f64, f64)]| b.iter().map(|x| x.1).fold(1.0, f64::max);
+    assert!(worst(&after) <= worst(&before));
+    // The star is listed in the same order (the tets stay, the vertex moves).
+    for (b, a) in before.iter().zip(&after) {
+        assert!(a.2 > 0.0);
+        assert!(b.1 >= WELL_SHAPED_Q_K || a.1 < WELL_SHAPED_Q_K);
+    }
+}
