@@ -253,6 +253,13 @@ impl Local {
         self.mesh.raw_tet(t)[3] == GHOST
     }
 
+    /// True when vertex `v` is in a live tet (a collapsed vertex is not).
+    pub fn has_vertex(&self, v: u32) -> bool {
+        self.v2t.get(v as usize).is_some_and(|&t| {
+            t != u32::MAX && self.mesh.is_alive(TetId(t)) && self.tet(t).contains(&v)
+        })
+    }
+
     /// The tets that have vertex `v` (ghosts included), by a walk over the faces at `v`.
     pub fn star(&self, v: u32, out: &mut Vec<u32>) {
         out.clear();
@@ -817,6 +824,11 @@ impl Stamps {
     /// undo), so equal stamps mean the same tets at `x`.
     pub fn of(&self, x: u32) -> u32 {
         self.stamp.get(x as usize).copied().unwrap_or(0)
+    }
+
+    /// The vertices at which a tet changed after the clock read `since`.
+    pub fn touched_since(&self, since: u32) -> impl Iterator<Item = u32> + '_ {
+        (0..self.stamp.len() as u32).filter(move |&x| self.stamp[x as usize] > since)
     }
 
     /// True when a tet at one of `verts` changed after the clock read `since`.

@@ -156,10 +156,11 @@ pub fn optimize(domain: &mut Domain, options: &OptimizeOptions) -> OptimizeRepor
     let region = std::mem::take(&mut domain.region);
     let fixed = std::mem::take(&mut domain.fixed);
     let mut ops = Ops::new(Local::new(mesh), locks, region, fixed);
-    // One scan per pass gives the bad tets for the next pass and the worst after this
-    // one.
+    // A scan gives the bad tets for the first pass; after each pass, those at the
+    // vertices it changed are rescanned (`rescan`), and a last scan gives H2.
     let (mut bad, before, worst_before) = scan(&ops, options.bad_quality);
-    let (mut after, mut worst_after) = (before.clone(), worst_before);
+    let mut since = ops.l.stamps.clock;
+    let mut worst_after = worst_before;
     let mut passes = Vec::new();
     // Tets (sorted vertices) that no operation improved, with the clock then: not
     // tried again by the main passes, and by the polishing passes only once something
@@ -173,9 +174,9 @@ pub fn optimize(domain: &mut Domain, options: &OptimizeOptions) -> OptimizeRepor
             options.bad_quality,
             &mut failed,
             false,
-            bad,
+            bad.clone(),
         );
-        (bad, after, worst_after) = scan(&ops, options.bad_quality);
+        (bad, worst_after) = rescan(&ops, bad, &mut since, options.bad_quality);
         stats.worst = worst_after;
         stats.seconds = tp.elapsed().as_secs_f64();
         let done = stats.edge_removals
@@ -196,8 +197,8 @@ pub fn optimize(domain: &mut Domain, options: &OptimizeOptions) -> OptimizeRepor
     for _ in 0..options.polish_passes {
         let tp = Instant::now();
         let bar = options.bad_quality.max(worst * options.polish_fraction);
-        let mut stats = pass(&mut ops, options, bar, &mut failed, true, bad);
-        (bad, after, worst_after) = scan(&ops, options.bad_quality);
+        let mut stats = pass(&mut ops, options, bar, &mut failed, true, bad.clone());
+        (bad, worst_after) = rescan(&ops, bad, &mut since, options.bad_quality);
         stats.worst = worst_after;
         stats.seconds = tp.elapsed().as_secs_f64();
         let improved = stats.worst < worst;
@@ -221,14 +222,14 @@ pub fn optimize(domain: &mut Domain, options: &OptimizeOptions) -> OptimizeRepor
             break;
         };
         ops.l.forget();
-        (bad, _, _) = scan(&ops, options.bad_quality);
+        (bad, _) = rescan(&ops, bad, &mut since, options.bad_quality);
         let bar = options.bad_quality.max(q * options.polish_fraction);
-        let mut stats = pass(&mut ops, options, bar, &mut failed, true, bad);
+        let mut stats = pass(&mut ops, options, bar, &mut failed, true, bad.clone());
         match done {
             LastResort::Inserted => stats.inserted += 1,
             LastResort::Moved => stats.smoothed += 1,
         }
-        (bad, after, worst_after) = scan(&ops, options.bad_quality);
+        (bad, worst_after) = rescan(&ops, bad, &mut since, options.bad_quality);
         stats.worst = worst_after;
         stats.seconds = tp.elapsed().as_secs_f64();
         let worth = worst_after < worst * (1.0 - LAST_RESORT_GAIN);
@@ -238,10 +239,10 @@ pub fn optimize(domain: &mut Domain, options: &OptimizeOptions) -> OptimizeRepor
             break;
         }
     }
+    let tp = Instant::now();
     let widened = widen_smallest_angle(&mut ops, &bad, options);
+    let (_, after, worst_after) = scan(&ops, options.bad_quality);
     if widened > 0 {
-        let tp = Instant::now();
-        (_, after, worst_after) = scan(&ops, options.bad_quality);
         passes.push(PassStats {
             smoothed: widened,
             worst: worst_after,
@@ -453,6 +454,73 @@ const SHORT_EDGE: f64 = 0.3;
 
 /// A tet worse than the bad quality: `Q_K`, slot, vertices.
 type Bad = (f64, u32, [u32; 4]);
+
+/// [`rescan`] scans the whole mesh when more than one vertex in this many was touched.
+const RESCAN_SHARE: usize = 8;
+
+/// The bad tets after the changes since the clock read `*since` (which it then reads
+/// again): those of `prev` whose vertices are untouched, and the bad tets at the
+/// touched vertices. The same set as [`scan`]'s, without visiting every tet (bunny00:
+/// 15 scans of 1.9 M tets were a third of the optimisation). Only a full scan knows the
+/// worst when no tet is bad, or when the clock has wrapped: then it scans.
+fn rescan(ops: &Ops, prev: Vec<Bad>, since: &mut u32, bad_quality: f64) -> (Vec<Bad>, f64) {
+    rescan_unless(ops, prev, since, bad_quality, RESCAN_SHARE)
+}
+
+/// [`rescan`], which scans the whole mesh when more than one vertex in `share` was
+/// touched.
+fn rescan_unless(
+    ops: &Ops,
+    prev: Vec<Bad>,
+    since: &mut u32,
+    bad_quality: f64,
+    share: usize,
+) -> (Vec<Bad>, f64) {
+    let (clock, from) = (ops.l.stamps.clock, *since);
+    *since = clock;
+    if clock < from {
+        let (bad, _, worst) = scan(ops, bad_quality);
+        return (bad, worst);
+    }
+    let stamps = &ops.l.stamps;
+    let changed: Vec<u32> = stamps.touched_since(from).collect();
+    if changed.len() > ops.l.mesh.num_vertices() / share.max(1) {
+        let (bad, _, worst) = scan(ops, bad_quality);
+        return (bad, worst);
+    }
+    let touched = |v: &[u32; 4]| v.iter().any(|&x| stamps.of(x) > from);
+    let mut bad: Vec<Bad> = prev
+        .into_iter()
+        .filter(|b| {
+            ops.l.mesh.is_alive(crate::tetmesh::TetId(b.1))
+                && ops.l.tet(b.1) == b.2
+                && !touched(&b.2)
+        })
+        .collect();
+    let mut seen = crate::FastSet::default();
+    let mut star = Vec::new();
+    for x in changed {
+        if !ops.l.has_vertex(x) {
+            continue;
+        }
+        ops.l.star(x, &mut star);
+        for &t in &star {
+            if ops.l.is_ghost(t) || ops.region_of(t) == 0 || !seen.insert(t) {
+                continue;
+            }
+            let q = ops.tet_quality(t);
+            if q > bad_quality {
+                bad.push((q, t, ops.l.tet(t)));
+            }
+        }
+    }
+    if bad.is_empty() {
+        let (bad, _, worst) = scan(ops, bad_quality);
+        return (bad, worst);
+    }
+    let worst = bad.iter().map(|b| b.0).fold(1.0, f64::max);
+    (bad, worst)
+}
 
 /// The domain's tets worse than `bad_quality`, the `Q_K` histogram and the worst `Q_K`.
 fn scan(ops: &Ops, bad_quality: f64) -> (Vec<Bad>, Histogram, f64) {

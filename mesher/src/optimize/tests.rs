@@ -326,3 +326,37 @@ fn widening_a_dihedral_keeps_the_ball_worst_and_its_good_tets() {
         assert!(b.1 >= WELL_SHAPED_Q_K || a.1 < WELL_SHAPED_Q_K);
     }
 }
+
+#[test]
+fn rescanning_the_touched_vertices_finds_what_a_full_scan_finds() {
+    let d = random_domain(400, 11);
+    let options = OptimizeOptions::default();
+    let mut ops = super::ops::Ops::new(Local::new(d.mesh), Locks::default(), d.region, d.fixed);
+    let (mut bad, _, _) = scan(&ops, options.bad_quality);
+    let mut since = ops.l.stamps.clock;
+    let mut failed = FastMap::default();
+    let sorted = |mut b: Vec<Bad>| {
+        b.sort_by_key(|x| x.1);
+        b
+    };
+    for k in 0..3 {
+        let stats = pass(
+            &mut ops,
+            &options,
+            options.bad_quality,
+            &mut failed,
+            k > 0,
+            bad.clone(),
+        );
+        assert!(
+            k > 0 || stats.edge_removals + stats.smoothed > 0,
+            "nothing changed"
+        );
+        let (full, _, worst) = scan(&ops, options.bad_quality);
+        // Never the full scan's fallback (share 1: only if every vertex was touched).
+        let (quick, quick_worst) = rescan_unless(&ops, bad, &mut since, options.bad_quality, 1);
+        assert_eq!(sorted(quick.clone()), sorted(full), "pass {k}");
+        assert_eq!(quick_worst, worst);
+        bad = quick;
+    }
+}
