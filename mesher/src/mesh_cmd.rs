@@ -56,12 +56,28 @@ pub fn mesh(args: &MeshArgs) -> Result<ExitCode> {
             .context("the mesh failed validation")?;
     }
     let (vm, sizes) = meshed.volume_and_sizes();
-    if let Some(out) = &args.output {
-        mesher::io::write_volume(out, &vm).with_context(|| format!("writing {}", out.display()))?;
-    }
-    let q_t = mesher::quality::target_quality(&surface.vertices, &surface.triangles);
-    let summary = mesher::quality::summarize(&vm, Some(q_t.q_t));
-    let band = mesher::mesh::EdgeBand::of(&vm, &sizes);
+    // The file is written while the summary is measured (bunny00: 0.2 s and 0.4 s).
+    let (written, (q_t, summary, band)) = rayon::join(
+        || {
+            args.output.as_ref().map(|out| {
+                mesher::io::write_volume(out, &vm)
+                    .with_context(|| format!("writing {}", out.display()))
+            })
+        },
+        || {
+            let ((q_t, summary), band) = rayon::join(
+                || {
+                    let q_t =
+                        mesher::quality::target_quality(&surface.vertices, &surface.triangles);
+                    let summary = mesher::quality::summarize(&vm, Some(q_t.q_t));
+                    (q_t, summary)
+                },
+                || mesher::mesh::EdgeBand::of(&vm, &sizes),
+            );
+            (q_t, summary, band)
+        },
+    );
+    written.transpose()?;
     if let Some(path) = &args.stats {
         let mut v = serde_json::to_value(&report)?;
         v["iterations"] = serde_json::to_value(&report.front.iterations)?;
