@@ -77,13 +77,18 @@ pub const DEFAULT_LAYERS: usize = 3;
 /// models. At 1.0 fewer than 90 % of the edges stay in band (sphere-10k 84 %).
 pub const DEFAULT_DELTA_F: f64 = 0.9;
 
-/// Default cube side of the seed lattices, in their level's size (see [`seed`]): the
-/// body-centred cubic lattice of side `1.5 h` has edges of 1.30 and 1.5 (normalised),
-/// all below [`DEFAULT_DELTA`], and as many points as the front puts in a uniform
-/// region. Measured on sphere-100k and bunny00 (same machine, one run each): 1.4 gives
-/// 4 % more tets than 1.5; without seeds the fronts take 46 and 36 iterations, with
-/// them 7 and 18, and the whole run 31 s -> 12 s and 18 s -> 15 s.
-pub const DEFAULT_SEED_SPACING: f64 = 1.5;
+/// Default cube side of the seed lattices, in their level's size (see [`seed`]): 1.45.
+/// A level keeps the lattice points whose size is within a factor `sqrt(1.5)` of its
+/// own, so a cube side of `s h` has normalised lengths from `s / 1.22` to `1.22 s`
+/// (its diagonals 0.87 times that): at 1.5 the sides reach 1.84, past the band's 1.67
+/// where the local size is in the lower part of the level's range, and bunny00 (whose
+/// sizes vary) kept 10.6 % of its interior edges above the band (89.4 % in band). At
+/// 1.45: 90.6 %, tets +3 % (sphere-10k +6 %, all within 1.12 times Gmsh HXT's), the same
+/// time (fewer front iterations), worst Q_K knot2 2.96 -> 2.68, fandisk 2.71 -> 2.51,
+/// armadillo 9.31 -> 9.26, the others unchanged. Earlier, against no lattices (one run
+/// each, sphere-100k and bunny00): the fronts took 46 and 36 iterations without seeds,
+/// 7 and 18 with them, and the whole run 31 s -> 12 s and 18 s -> 15 s.
+pub const DEFAULT_SEED_SPACING: f64 = 1.45;
 
 /// Default clearance of a seed from the domain's vertices and from other levels'
 /// seeds (normalised): the front fills that gap. At 3 instead of 2: one more iteration
