@@ -294,6 +294,15 @@ fn armadillo_fold_tet_of_four_boundary_vertices_is_lifted() {
     assert!(o.worst_after < 13.2, "worst {}", o.worst_after);
 }
 
+/// Regression (homer, CGAL data): a free vertex between two tets at Q_K 112 (Q_t 81.3):
+/// the last resort's compass search from the vertex stayed in its basin, while its ball
+/// allows 78 at 0.84 of its shortest edge away. A random descent first finds it; the
+/// worst is then the surface's own, Q_t.
+#[test]
+fn homer_vertex_between_two_tets_jumps_to_a_better_basin() {
+    worst_within("cgal/meshes/homer.off", 1.01);
+}
+
 /// Regression (part1, Netgen data): the smallest dihedral angle, in the worst tet (on a
 /// thin boundary face, Q_K 55.8 for Q_t 55.7), was 0.559°, below Gmsh HXT's 0.578°
 /// (whose worst Q_K is 81.5). The last step of the optimisation moves the free vertex

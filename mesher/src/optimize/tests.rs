@@ -360,3 +360,16 @@ fn rescanning_the_touched_vertices_finds_what_a_full_scan_finds() {
         bad = quick;
     }
 }
+
+#[test]
+fn random_descent_jumps_to_the_better_basin() {
+    // Two basins: the compass from the first one's centre stays there (1.0, behind a
+    // ridge of 1.15); the better one (0.5) is 0.8 away, inside the descent's reach.
+    let (a, b) = (Point::ZERO, Point::new(0.5, 0.6, 0.2));
+    let score = |p: Point| (1.0 + p.distance(a)).min(0.5 + p.distance(b));
+    let start = a + Point::new(0.01, 0.0, 0.0);
+    let (c, _) = super::ops::compass(score, start, score(start), 0.05);
+    assert!(c > 0.99, "the compass left its basin: {c}");
+    let (p, v) = super::ops::random_descent(score, start, score(start), 1.0);
+    assert!(v < 0.52 && p.distance(b) < 0.005, "{v} at {p:?}");
+}
