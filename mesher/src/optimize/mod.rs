@@ -294,9 +294,10 @@ const WIDEN_ROUNDS: usize = 32;
 /// of the tet that has it can move to widen it ([`Ops::widen_dihedral`], which keeps
 /// the ball's worst `Q_K` and its well-shaped tets), it moves. The tet is sought among
 /// the bad tets (`Q_K` above `bad_quality`): a tet whose smallest angle is `θ` has
-/// `Q_K >= α / sin(θ / 2)` (its inscribed ball lies in the wedge of that angle, within
-/// its longest edge of the edge), so every angle below `2 asin(α / bad_quality)` (9.4°
-/// at 2.5) is in a bad tet, and above it the search stops. Returns the moves.
+/// `Q_K >= α / sin(θ / 2)` (its inscribed ball lies in the wedge of that angle, its
+/// centre no farther from the wedge's edge than the longest edge), so every angle below
+/// `2 asin(α / bad_quality)` (9.4° at 2.5) is in a bad tet, and above it the search
+/// stops. Returns the moves.
 fn widen_smallest_angle(ops: &mut Ops, bad: &[Bad], options: &OptimizeOptions) -> u64 {
     if options.smoothing == Smoothing::Off {
         return 0;
