@@ -7,7 +7,9 @@
 //! weigh sizes, they decide nothing topological. The walk is the remembering stochastic
 //! walk (Devillers, Pion and Teillaud, "Walking in a triangulation", 2002) over exact
 //! orientations; it is bounded, and a point outside the background mesh (or a walk that
-//! hits its bound) takes the clamped coordinates of the last tet reached.
+//! hits its bound) takes the clamped coordinates of the last tet reached. A user's
+//! background holds the domain's tets only and need not be convex: where its walk stops
+//! outside its last tet, a grid of the tets by cell finds the tet that holds the point.
 
 use super::{SizeField, SizingError};
 use crate::boundary::BoundaryMesh;
@@ -26,6 +28,101 @@ const MAX_WALK: usize = 4096;
 const CLEARLY_INSIDE: f64 = 1e-6;
 /// Background tets crossed by one edge before the piecewise length stops splitting.
 const MAX_CROSSINGS: usize = 256;
+/// Barycentric coordinate below which a walk's last tet does not hold the point.
+const OUTSIDE: f64 = 1e-9;
+/// Largest number of cells of a [`TetGrid`] along an axis.
+const MAX_GRID_CELLS: usize = 128;
+
+/// The finite tets of a mesh by cell of a uniform grid over its points (each tet in
+/// every cell its box meets), to locate a point where a walk cannot reach it.
+#[derive(Clone, Debug)]
+struct TetGrid {
+    lo: Point,
+    cell: Point,
+    n: [usize; 3],
+    /// `start[c]..start[c + 1]` indexes `tets` for cell `c`.
+    start: Vec<u32>,
+    tets: Vec<u32>,
+}
+
+impl TetGrid {
+    fn new(mesh: &TetMesh) -> Option<TetGrid> {
+        let b = crate::geom::Aabb::of_points(mesh.points())?;
+        let count = mesh.finite_tets().count();
+        let k = ((count as f64 / 2.0).cbrt().ceil() as usize).clamp(1, MAX_GRID_CELLS);
+        let n = [k; 3];
+        let cell = ((b.max - b.min) / k as f64).max(Point::splat(f64::MIN_POSITIVE));
+        let mut grid = TetGrid {
+            lo: b.min,
+            cell,
+            n,
+            start: Vec::new(),
+            tets: Vec::new(),
+        };
+        let range = |g: &TetGrid, t: crate::tetmesh::TetId| {
+            let q = mesh.tet_points(t);
+            let lo = q.iter().fold(Point::splat(f64::MAX), |a, &p| a.min(p));
+            let hi = q.iter().fold(Point::splat(f64::MIN), |a, &p| a.max(p));
+            (g.cell_of(lo), g.cell_of(hi))
+        };
+        // Counting pass, then filling (cells in order, tets in order: deterministic).
+        let cells = k * k * k;
+        let mut counts = vec![0u32; cells + 1];
+        for t in mesh.finite_tets() {
+            let (a, z) = range(&grid, t);
+            grid.for_cells(a, z, |c| counts[c + 1] += 1);
+        }
+        for c in 0..cells {
+            counts[c + 1] += counts[c];
+        }
+        let mut fill = counts.clone();
+        let mut tets = vec![0u32; counts[cells] as usize];
+        for t in mesh.finite_tets() {
+            let (a, z) = range(&grid, t);
+            grid.for_cells(a, z, |c| {
+                tets[fill[c] as usize] = t.0;
+                fill[c] += 1;
+            });
+        }
+        grid.start = counts;
+        grid.tets = tets;
+        Some(grid)
+    }
+
+    fn cell_of(&self, p: Point) -> [usize; 3] {
+        let g = (p - self.lo) / self.cell;
+        let c = |x: f64, n: usize| (x.max(0.0) as usize).min(n - 1);
+        [c(g.x, self.n[0]), c(g.y, self.n[1]), c(g.z, self.n[2])]
+    }
+
+    fn for_cells(&self, a: [usize; 3], z: [usize; 3], mut f: impl FnMut(usize)) {
+        for k in a[2]..=z[2] {
+            for j in a[1]..=z[1] {
+                for i in a[0]..=z[0] {
+                    f((k * self.n[1] + j) * self.n[0] + i);
+                }
+            }
+        }
+    }
+
+    /// The first tet of `p`'s cell that holds it (barycentric coordinates all above
+    /// `-OUTSIDE`), with its coordinates; `None` outside the grid or every tet.
+    fn find(&self, mesh: &TetMesh, p: Point) -> Option<(u32, [f64; 4])> {
+        let g = (p - self.lo) / self.cell;
+        let inside = |x: f64, n: usize| x >= 0.0 && x <= n as f64;
+        if !(inside(g.x, self.n[0]) && inside(g.y, self.n[1]) && inside(g.z, self.n[2])) {
+            return None;
+        }
+        let [i, j, k] = self.cell_of(p);
+        let c = (k * self.n[1] + j) * self.n[0] + i;
+        let range = self.start[c] as usize..self.start[c + 1] as usize;
+        self.tets[range].iter().find_map(|&t| {
+            let l = barycentric(&mesh.tet_points(crate::tetmesh::TetId(t)), p);
+            l.iter().all(|&x| x >= -OUTSIDE).then(|| (t, clamp(l)))
+        })
+    }
+}
+
 /// Passes of neighbour averaging for vertices without a size of their own.
 const MEAN_PASSES: usize = 16;
 
@@ -36,6 +133,9 @@ pub struct Background {
     h: Vec<f64>,
     /// A finite tet to start walks from.
     any: u32,
+    /// Tets by grid cell, for a background that may not be convex (a user's): a walk
+    /// stops at its hull, where the domain has a hole, far from the point.
+    grid: Option<TetGrid>,
 }
 
 impl Background {
@@ -59,7 +159,12 @@ impl Background {
             .next()
             .ok_or_else(|| SizingError::Mesh("no tetrahedron".into()))?
             .0;
-        Ok(Background { mesh, h, any })
+        Ok(Background {
+            mesh,
+            h,
+            any,
+            grid: None,
+        })
     }
 
     /// The paper's control space (§5.3.1) on the boundary mesh T(S,F): at a surface
@@ -88,7 +193,9 @@ impl Background {
         }
         let mesh = TetMesh::from_tets(vm.vertices.clone(), &tets)
             .map_err(|e| SizingError::Mesh(e.to_string()))?;
-        Background::new(mesh, sizes)
+        let mut bg = Background::new(mesh, sizes)?;
+        bg.grid = TetGrid::new(&bg.mesh);
+        Ok(bg)
     }
 
     /// The size at each background vertex.
@@ -154,8 +261,16 @@ impl Background {
             t = u;
             came = (f & 3) as usize;
         }
-        *hint = t;
         let l = barycentric(&self.mesh.tet_points(crate::tetmesh::TetId(t)), p);
+        // Stopped outside its last tet: at the hull of a non-convex background (the
+        // walk cannot cross a hole), or at its bound. The grid finds the tet, if any.
+        if l.iter().any(|&x| x < -OUTSIDE) {
+            if let Some((u, lu)) = self.grid.as_ref().and_then(|g| g.find(&self.mesh, p)) {
+                *hint = u;
+                return (u, lu, visited);
+            }
+        }
+        *hint = t;
         (t, clamp(l), visited)
     }
 
@@ -346,5 +461,29 @@ mod tests {
             "{} steps per query",
             total as f64 / n as f64
         );
+    }
+
+    /// Regression: a user background (`--size-map`) holds the domain's tets only, so it
+    /// is not convex where the domain has a hole, and a walk stopped at its hull far
+    /// from the point: fandisk-in-box meshed with T(S,F) and the default sizes as its
+    /// background gave 395 k tets against the default path's 46 k. A linear size is
+    /// interpolated exactly, so every point of a solid torus must get it, whatever the
+    /// hint.
+    #[test]
+    fn a_user_background_with_a_hole_locates_across_it() {
+        let s = torus(48, 24, 2.0, 0.6);
+        let (bm, _) = boundary_mesh(&s, &BoundaryOptions::default()).unwrap();
+        let vm = bm.to_volume_mesh();
+        let f = |p: Point| 1.0 + 0.1 * p.x + 0.2 * p.y + 0.05 * p.z;
+        let sizes = vm.vertices.iter().map(|&p| f(p)).collect();
+        let bg = Background::from_volume(&vm, sizes).unwrap();
+        let mut hint = 0;
+        for k in 0..64 {
+            // Around the tube's core circle, half a turn apart in turn.
+            let a = std::f64::consts::PI * (k as f64 * 0.5 + (k % 2) as f64);
+            let p = Point::new(2.0 * a.cos(), 2.0 * a.sin(), 0.1);
+            let h = bg.size(p, &mut hint);
+            assert!((h - f(p)).abs() < 1e-9, "at {p:?}: {h} against {}", f(p));
+        }
     }
 }
