@@ -114,6 +114,10 @@ struct MeshArgs {
     /// The Medit .sol with one size per vertex of --size-map.
     #[arg(long, requires = "size_map")]
     size_sol: Option<PathBuf>,
+    /// Gradation control of the boundary-derived sizes: at most this growth of the size
+    /// per unit length (e.g. 0.3); off by default.
+    #[arg(long, conflicts_with_all = ["size", "size_map"])]
+    gradation: Option<f64>,
     /// Skip the optimisation (paper §6).
     #[arg(long)]
     no_optimize: bool,

@@ -45,6 +45,10 @@ pub struct Params {
     pub front: FrontParams,
     /// The size map.
     pub size: SizeSpec,
+    /// Gradation control of the boundary-derived sizes ([`SizeSpec::Boundary`]): at
+    /// most this growth of the size per unit length along T(S,F)'s edges; `None`, the
+    /// paper's sizes as they are.
+    pub gradation: Option<f64>,
     /// Run the optimisation (paper §6).
     pub optimize: bool,
     /// Its parameters.
@@ -61,6 +65,7 @@ impl Default for Params {
             boundary: BoundaryOptions::default(),
             front: FrontParams::default(),
             size: SizeSpec::default(),
+            gradation: None,
             optimize: true,
             optimize_options: OptimizeOptions::default(),
             time_limit: None,
@@ -155,7 +160,10 @@ pub fn mesh_with_progress(
     let time_boundary = t0.elapsed().as_secs_f64();
     let t1 = Instant::now();
     let field: Box<dyn SizeField> = match &params.size {
-        SizeSpec::Boundary => Box::new(Background::from_boundary(&bm, surface)?),
+        SizeSpec::Boundary => match params.gradation {
+            None => Box::new(Background::from_boundary(&bm, surface)?),
+            Some(g) => Box::new(Background::from_boundary_graded(&bm, surface, g)?),
+        },
         SizeSpec::Constant(h) => Box::new(crate::sizing::constant(*h)?),
         SizeSpec::Background { mesh, sizes } => {
             Box::new(Background::from_volume(mesh, sizes.clone())?)

@@ -138,6 +138,7 @@ fn params_from(args: &MeshArgs) -> Result<Params> {
     params.optimize_options.max_passes = args.optimize_passes;
     params.optimize_options.bad_quality = args.optimize_above;
     params.front.max_iterations = args.max_iterations;
+    params.gradation = args.gradation;
     params.time_limit = args.time_limit;
     params.time_limit_action = match args.time_limit_action {
         TimeLimitArg::Best => TimeLimitAction::Best,

@@ -60,6 +60,42 @@ fn generated_shapes() {
     }
 }
 
+/// Gradation control: a coarse outer sphere (level 1) around a fine inner one (level
+/// 3) close to it; the graded sizes keep the outer vertices' size out of the gap, so
+/// the mesh is finer there (more tets) and still valid, with the boundary kept.
+#[test]
+fn graded_sizes_fill_a_narrow_gap_more_finely() {
+    let outer = icosphere(1);
+    let inner = icosphere(3);
+    let n = outer.vertices.len() as u32;
+    let mut s = outer.clone();
+    s.vertices.extend(inner.vertices.iter().map(|p| *p * 0.8));
+    s.triangles.extend(
+        inner
+            .triangles
+            .iter()
+            .map(|t| [t[0] + n, t[2] + n, t[1] + n]),
+    );
+    let (_, plain) = check("gap", &s, &Params::default());
+    let graded = Params {
+        gradation: Some(0.3),
+        ..Params::default()
+    };
+    let (_, r) = check("gap, graded", &s, &graded);
+    assert!(
+        r.tets > plain.tets,
+        "{} tets graded, {} not",
+        r.tets,
+        plain.tets
+    );
+    let bad = Params {
+        gradation: Some(0.0),
+        ..Params::default()
+    };
+    let e = mesh(&s, &bad).expect_err("a zero gradation is refused");
+    assert!(e.to_string().contains("gradation"), "{e}");
+}
+
 #[test]
 fn nested_spheres_fill_the_shell() {
     let outer = icosphere(3);

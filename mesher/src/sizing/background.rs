@@ -123,6 +123,59 @@ impl TetGrid {
     }
 }
 
+/// Lowers each size `h[v]` to the least `h[u] + g |uv|` over the paths of edges of the
+/// finite tets of `mesh` (Dijkstra from the smallest sizes): afterwards no size exceeds
+/// a neighbour's by more than `g` times their distance, and none has grown.
+fn grade(mesh: &TetMesh, h: &mut [f64], g: f64) {
+    let n = h.len();
+    let mut edges: Vec<(u32, u32)> = Vec::new();
+    for t in mesh.finite_tets() {
+        let v = mesh.raw_tet(t.0);
+        for [i, j] in crate::quality::tet::TET_EDGES {
+            let (a, b) = (v[i].min(v[j]), v[i].max(v[j]));
+            if (b as usize) < n {
+                edges.push((a, b));
+            }
+        }
+    }
+    edges.sort_unstable();
+    edges.dedup();
+    let mut start = vec![0usize; n + 1];
+    for &(a, b) in &edges {
+        start[a as usize + 1] += 1;
+        start[b as usize + 1] += 1;
+    }
+    for k in 0..n {
+        start[k + 1] += start[k];
+    }
+    let mut fill = start.clone();
+    let mut adj = vec![0u32; start[n]];
+    for &(a, b) in &edges {
+        adj[fill[a as usize]] = b;
+        fill[a as usize] += 1;
+        adj[fill[b as usize]] = a;
+        fill[b as usize] += 1;
+    }
+    // Positive finite sizes order as their bit patterns do.
+    let mut heap: std::collections::BinaryHeap<std::cmp::Reverse<(u64, u32)>> = (0..n)
+        .map(|v| std::cmp::Reverse((h[v].to_bits(), v as u32)))
+        .collect();
+    let pts = mesh.points();
+    while let Some(std::cmp::Reverse((bits, v))) = heap.pop() {
+        let hv = f64::from_bits(bits);
+        if hv > h[v as usize] {
+            continue;
+        }
+        for &u in &adj[start[v as usize]..start[v as usize + 1]] {
+            let c = hv + g * pts[v as usize].distance(pts[u as usize]);
+            if c < h[u as usize] {
+                h[u as usize] = c;
+                heap.push(std::cmp::Reverse((c.to_bits(), u)));
+            }
+        }
+    }
+}
+
 /// Passes of neighbour averaging for vertices without a size of their own.
 const MEAN_PASSES: usize = 16;
 
@@ -173,6 +226,27 @@ impl Background {
     /// one (repeated a few passes; the mean surface size if still unknown).
     pub fn from_boundary(bm: &BoundaryMesh, surface: &Surface) -> Result<Background, SizingError> {
         let h = boundary_sizes(bm, surface);
+        Background::new(bm.mesh.clone(), h)
+    }
+
+    /// [`Background::from_boundary`] with gradation control (Borouchaki, Hecht and Frey,
+    /// "Mesh gradation control", IJNME 1998): each size lowered to at most
+    /// `h_u + g |uv|` over the edges `uv` of T(S,F), so that sizes grow by at most `g`
+    /// per unit length. Between shells close to each other, a big face's vertex no
+    /// longer spreads its size into the gap between them. At `g` = 0.3, against none:
+    /// fandisk-in-box 85.1 -> 89.4 % Q_K < 3, 70.6 -> 89.4 % of the interior edges in
+    /// band, 1.4 times the tets; couplingdown 58.0 -> 76.4 %, 67.8 -> 79.0 %, 1.7 times;
+    /// but box-with-hole's worst Q_K 3.06 -> 4.14. Off by default.
+    pub fn from_boundary_graded(
+        bm: &BoundaryMesh,
+        surface: &Surface,
+        g: f64,
+    ) -> Result<Background, SizingError> {
+        if !(g > 0.0 && g.is_finite()) {
+            return Err(SizingError::Gradation(g));
+        }
+        let mut h = boundary_sizes(bm, surface);
+        grade(&bm.mesh, &mut h, g);
         Background::new(bm.mesh.clone(), h)
     }
 
@@ -485,5 +559,39 @@ mod tests {
             let h = bg.size(p, &mut hint);
             assert!((h - f(p)).abs() < 1e-9, "at {p:?}: {h} against {}", f(p));
         }
+    }
+
+    #[test]
+    fn graded_sizes_grow_by_at_most_g_per_unit_length_and_never_rise() {
+        use crate::delaunay::{sort::SplitMix64, triangulate, DelaunayOptions};
+        let mut rng = SplitMix64::new(5);
+        let mut r = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        let pts: Vec<Point> = (0..300).map(|_| Point::new(r(), r(), r())).collect();
+        let mesh = triangulate(&pts, &DelaunayOptions::default()).unwrap().mesh;
+        // Sizes from 0.001 to 1, unrelated to the positions.
+        let before: Vec<f64> = (0..mesh.num_vertices()).map(|_| 0.001 + r()).collect();
+        let mut h = before.clone();
+        let g = 0.2;
+        grade(&mesh, &mut h, g);
+        assert!(h.iter().zip(&before).all(|(a, b)| a <= b));
+        let p = mesh.points();
+        for t in mesh.finite_tets() {
+            let v = mesh.raw_tet(t.0);
+            for [i, j] in crate::quality::tet::TET_EDGES {
+                let (a, b) = (v[i] as usize, v[j] as usize);
+                let bound = g * p[a].distance(p[b]) * (1.0 + 1e-12);
+                assert!(
+                    (h[a] - h[b]).abs() <= bound,
+                    "edge {a}-{b}: {} {}",
+                    h[a],
+                    h[b]
+                );
+            }
+        }
+        // The smallest size is its own bound.
+        let k = (0..h.len())
+            .min_by(|&a, &b| before[a].total_cmp(&before[b]))
+            .unwrap();
+        assert_eq!(h[k], before[k]);
     }
 }

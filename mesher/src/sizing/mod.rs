@@ -100,6 +100,9 @@ pub enum SizingError {
     /// The background mesh is unusable (no tet, bad indices, non-manifold faces).
     #[error("background mesh: {0}")]
     Mesh(String),
+    /// A gradation that is not positive and finite.
+    #[error("gradation {0} is not positive and finite")]
+    Gradation(f64),
 }
 
 /// Checks that a constant size is usable.
