@@ -54,6 +54,19 @@ pub(super) struct Ops {
     failed_ops: FastMap<(u32, u32, Kind), u32>,
 }
 
+/// The ball of a free vertex and where its position searches start
+/// ([`Ops::free_ball`]).
+struct FreeBall {
+    /// Its tets.
+    star: Vec<u32>,
+    /// Their faces opposite the vertex.
+    link: Vec<[u32; 3]>,
+    /// Its position.
+    old: Point,
+    /// A quarter of its shortest edge.
+    step: f64,
+}
+
 /// A [`Ops::qcache`] entry that matches no tet.
 const STALE: ([u32; 4], f64) = ([u32::MAX; 4], 0.0);
 
@@ -328,24 +341,16 @@ impl Ops {
     /// several bad tets of the ball that the smoothing's targets do not reach. Accepted
     /// if the worst drops and the ball stays exactly positive.
     pub fn smooth_search(&mut self, v: u32) -> bool {
-        if self.fixed.get(v as usize) != Some(&false) {
-            return false;
-        }
-        let Some((star, link)) = self.ball(v) else {
+        let Some(FreeBall {
+            star,
+            link,
+            old,
+            step,
+        }) = self.free_ball(v)
+        else {
             return false;
         };
-        let old = self.l.p(v);
         let before = self.worst(&star);
-        // The first step: a quarter of the shortest edge at `v`.
-        let step = link
-            .iter()
-            .flatten()
-            .map(|&x| self.l.p(x).distance(old))
-            .fold(f64::INFINITY, f64::min)
-            * 0.25;
-        if !(step.is_finite() && step > 0.0) {
-            return false;
-        }
         let score = |q| self.cone_score(&link, q, before);
         // The ball's worst is a maximum of several tets' Q_K: a local search from the
         // vertex can settle in a basin next to a better one (homer, CGAL data: a free
@@ -354,19 +359,7 @@ impl Ops {
         // polishes.
         let (start, value) = random_descent(score, old, before, step * 4.0);
         let (after, p) = compass(score, start, value, step);
-        if after >= before {
-            return false;
-        }
-        self.l.set_point(v, p);
-        let positive = link
-            .iter()
-            .all(|f| self.l.orient(f[0], f[1], f[2], v) == Orientation::Positive);
-        if !positive {
-            self.l.set_point(v, old);
-            return false;
-        }
-        self.moved(&star);
-        true
+        after < before && self.move_checked(v, p, &star, &link)
     }
 
     /// Moves the free vertex `v` where its ball's smallest dihedral angle is largest
@@ -374,13 +367,15 @@ impl Ops {
     /// the ball's worst `Q_K`, none of its well-shaped tets (`Q_K` < 3) stops being so,
     /// and every tet stays exactly positive. True when the smallest angle grew.
     pub fn widen_dihedral(&mut self, v: u32) -> bool {
-        if self.fixed.get(v as usize) != Some(&false) {
-            return false;
-        }
-        let Some((star, link)) = self.ball(v) else {
+        let Some(FreeBall {
+            star,
+            link,
+            old,
+            step,
+        }) = self.free_ball(v)
+        else {
             return false;
         };
-        let old = self.l.p(v);
         let qs: Vec<f64> = star.iter().map(|&t| self.tet_quality(t)).collect();
         let worst = qs.iter().copied().fold(1.0, f64::max);
         // Minimised: minus the smallest angle; infinite where a condition fails.
@@ -401,19 +396,41 @@ impl Ops {
             -angle
         };
         let before = score(old);
+        if !before.is_finite() {
+            return false;
+        }
+        let (after, p) = compass(score, old, before, step);
+        after < before && self.move_checked(v, p, &star, &link)
+    }
+
+    /// The ball of the free vertex `v` (its tets and their faces opposite `v`), its
+    /// position, and the first step of the searches for a better one: a quarter of its
+    /// shortest edge. `None` for a fixed vertex, a ball that leaves the domain or a
+    /// degenerate step.
+    fn free_ball(&self, v: u32) -> Option<FreeBall> {
+        if self.fixed.get(v as usize) != Some(&false) {
+            return None;
+        }
+        let (star, link) = self.ball(v)?;
+        let old = self.l.p(v);
         let step = link
             .iter()
             .flatten()
             .map(|&x| self.l.p(x).distance(old))
             .fold(f64::INFINITY, f64::min)
             * 0.25;
-        if !(before.is_finite() && step.is_finite() && step > 0.0) {
-            return false;
-        }
-        let (after, p) = compass(score, old, before, step);
-        if after >= before {
-            return false;
-        }
+        (step.is_finite() && step > 0.0).then_some(FreeBall {
+            star,
+            link,
+            old,
+            step,
+        })
+    }
+
+    /// Moves `v` to `p` if every tet of its ball (`star`, faces `link`) stays exactly
+    /// positive, and marks the ball changed; otherwise leaves `v` where it was.
+    fn move_checked(&mut self, v: u32, p: Point, star: &[u32], link: &[[u32; 3]]) -> bool {
+        let old = self.l.p(v);
         self.l.set_point(v, p);
         let positive = link
             .iter()
@@ -422,7 +439,7 @@ impl Ops {
             self.l.set_point(v, old);
             return false;
         }
-        self.moved(&star);
+        self.moved(star);
         true
     }
 
