@@ -333,31 +333,40 @@ fn armadillo_fold_tet_of_four_boundary_vertices_is_lifted() {
 /// Regression (homer, CGAL data): a free vertex between two tets at Q_K 112 (Q_t 81.3):
 /// the last resort's compass search from the vertex stayed in its basin, while its ball
 /// allows 78 at 0.84 of its shortest edge away. A random descent first finds it; the
-/// worst is then the surface's own, Q_t.
+/// worst is then the surface's own, Q_t, and the dihedral widening may take up to 2 %
+/// of it back (82.5, for the smallest angle 0.59° -> 0.93°).
 #[test]
 fn homer_vertex_between_two_tets_jumps_to_a_better_basin() {
-    worst_within("cgal/meshes/homer.off", 1.01);
+    worst_within("cgal/meshes/homer.off", 1.02 * (1.0 + 1e-9));
 }
 
 /// Regression (part1, Netgen data): the smallest dihedral angle, in the worst tet (on a
 /// thin boundary face, Q_K 55.8 for Q_t 55.7), was 0.559°, below Gmsh HXT's 0.578°
 /// (whose worst Q_K is 81.5). The last step of the optimisation moves the free vertex
-/// of the tet with the smallest angle, as far as the ball's worst Q_K allows: 0.568°
-/// (0.5776° before the last resort's random descent put that vertex elsewhere; a
-/// random search over its ball finds no more than the compass does, 0.5686°).
+/// of the tet with the smallest angle: as far as the ball's worst Q_K allows, 0.568°
+/// (a random search over its ball finds no more, 0.5686°); with the 2 % margin over
+/// the face's own bound that a ball at the surface's limit may use, 0.88°.
 #[test]
 fn part1_smallest_dihedral_angle_is_widened() {
     let Some(s) = corpus("netgen/part1.stl") else {
         return;
     };
-    let (m, _) = check("part1", &s, &Params::default());
+    let (m, r) = check("part1", &s, &Params::default());
     let vm = m.to_volume_mesh();
     let smallest = vm
         .tets
         .iter()
         .map(|t| mesher::quality::min_dihedral(&t.map(|v| vm.vertices[v as usize])))
         .fold(f64::INFINITY, f64::min);
-    assert!(smallest > 0.565, "smallest dihedral angle {smallest}°");
+    // Gmsh HXT reaches 0.578°; with the ball's worst kept, 0.568° was the most here.
+    assert!(smallest > 0.8, "smallest dihedral angle {smallest}°");
+    // The worst tet sits on the face that sets Q_t: the widening may use 2 % of it.
+    let q_t = mesher::quality::target_quality(&s.vertices, &s.triangles).q_t;
+    let worst = r.optimize.expect("the optimisation ran").worst_after;
+    assert!(
+        worst <= 1.02 * q_t * (1.0 + 1e-9),
+        "worst {worst} against Q_t {q_t}"
+    );
 }
 
 /// Seed lattices deep inside a sphere (inserted before the first front) fill the
