@@ -17,14 +17,14 @@
 //! Last of all, the smallest dihedral angle is widened by moving a free vertex of its
 //! tet (`Ops::widen_dihedral`), as far as its ball's worst `Q_K` allows; a ball whose
 //! worst is within 2 % of what its boundary faces allow (their per-face `Q_t` terms,
-//! §8) may use those 2 %, and its well-shaped tets may not become fewer.
+//! §8) may use those 2 % (and trade well-shaped tets one for one).
 //!
 //! Guarantees, by construction: an operation is applied only if the worst `Q_K` of the
-//! tets it touches strictly drops (the widening: does not rise, except within 2 % of
+//! tets it touches strictly drops (the widening: does not rise, except up to 1.02 times
 //! the bound of the boundary faces it touches, and never above the worst `Q_K` before
-//! the optimisation), so the worst `Q_K` of the mesh never rises above that before the
-//! optimisation, nor above 1.02 `Q_t` where it was below; every new
-//! tet is exactly positive; constrained faces and their edges are never flipped and
+//! the optimisation), so the worst `Q_K` of the mesh never rises above its value before
+//! the optimisation, and the widening raises it, if at all, to at most 1.02 `Q_t`; every
+//! new tet is exactly positive; constrained faces and their edges are never flipped and
 //! boundary vertices never move, so the boundary and the volume are unchanged.
 
 mod ops;
@@ -297,12 +297,12 @@ const WIDEN_ROUNDS: usize = 32;
 /// Last of all, the smallest dihedral angle of the mesh: while one of the free vertices
 /// of the tet that has it can move to widen it ([`Ops::widen_dihedral`], which keeps
 /// the ball's worst `Q_K` or the 2 % margin over its boundary faces' bound, never above
-/// `ceiling`, and the number of its well-shaped tets), it moves. The tet is sought among
-/// the bad tets (`Q_K` above `bad_quality`): a tet whose smallest angle is `θ` has
-/// `Q_K >= α / sin(θ / 2)` (its inscribed ball lies in the wedge of that angle, its
-/// centre no farther from the wedge's edge than the longest edge), so every angle below
-/// `2 asin(α / bad_quality)` (9.4° at 2.5) is in a bad tet, and above it the search
-/// stops. Returns the moves.
+/// `ceiling`, and its well-shaped tets, or at that limit their number), it moves. The
+/// tet is sought among the bad tets (`Q_K` above `bad_quality`): a tet whose smallest
+/// angle is `θ` has `Q_K >= α / sin(θ / 2)` (its inscribed ball lies in the wedge of
+/// that angle, its centre no farther from the wedge's edge than the longest edge), so
+/// every angle below `2 asin(α / bad_quality)` (9.4° at 2.5) is in a bad tet, and above
+/// it the search stops. Returns the moves.
 fn widen_smallest_angle(
     ops: &mut Ops,
     bad: &[Bad],
