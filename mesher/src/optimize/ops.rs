@@ -397,15 +397,7 @@ impl Ops {
         };
         let qs: Vec<f64> = star.iter().map(|&t| self.tet_quality(t)).collect();
         let worst = qs.iter().copied().fold(1.0, f64::max);
-        let faces_allow = link
-            .iter()
-            .filter(|f| self.locks.face(**f))
-            .map(|f| {
-                let [a, b, c] = f.map(|x| self.l.p(x));
-                face_best_q_k(a, b, c)
-            })
-            .fold(0.0, f64::max);
-        let bound = worst.max((faces_allow * SURFACE_MARGIN).min(ceiling));
+        let bound = worst.max((self.faces_allow(&link) * SURFACE_MARGIN).min(ceiling));
         // Minimised: minus the smallest angle; infinite where a condition fails.
         // At the surface's limit, well-shaped tets may be traded one for one; elsewhere
         // each stays well-shaped.
@@ -444,6 +436,19 @@ impl Ops {
         };
         let (after, p) = compass(score, start, value, step);
         after < before && self.move_checked(v, p, &star, &link)
+    }
+
+    /// The largest per-face `Q_t` term (paper §8) of the constrained faces among
+    /// `faces` (0 when there is none): no tet on such a face has a lower `Q_K`.
+    fn faces_allow(&self, faces: &[[u32; 3]]) -> f64 {
+        faces
+            .iter()
+            .filter(|f| self.locks.face(**f))
+            .map(|f| {
+                let [a, b, c] = f.map(|x| self.l.p(x));
+                face_best_q_k(a, b, c)
+            })
+            .fold(0.0, f64::max)
     }
 
     /// The ball of the free vertex `v` (its tets and their faces opposite `v`), its
