@@ -266,8 +266,20 @@ pub(crate) fn best_triangulation_above(
     if m < 3 {
         return Some(Vec::new());
     }
-    let mut best = vec![f64::NEG_INFINITY; m * m];
-    let mut arg = vec![0usize; m * m];
+    // The tables on the stack for rings up to MAX_RING (nearly every call: most are
+    // tried and fail, and two allocations per call were a tenth of their cost).
+    const STACK: usize = MAX_RING * MAX_RING;
+    let (mut best_stack, mut arg_stack) = ([f64::NEG_INFINITY; STACK], [0u16; STACK]);
+    let (mut best_heap, mut arg_heap) = (Vec::new(), Vec::new());
+    let (best, arg): (&mut [f64], &mut [u16]) = if m * m <= STACK && m <= usize::from(u16::MAX) {
+        (&mut best_stack[..m * m], &mut arg_stack[..m * m])
+    } else if m <= usize::from(u16::MAX) {
+        best_heap.resize(m * m, f64::NEG_INFINITY);
+        arg_heap.resize(m * m, 0u16);
+        (&mut best_heap, &mut arg_heap)
+    } else {
+        return None; // a ring of 65536 vertices: no O(m^3) program for it
+    };
     for i in 0..m - 1 {
         best[i * m + i + 1] = f64::INFINITY;
     }
@@ -282,7 +294,7 @@ pub(crate) fn best_triangulation_above(
                 let v = sides.min(q(idx[i], idx[k], idx[j]));
                 if v > best[i * m + j] {
                     best[i * m + j] = v;
-                    arg[i * m + j] = k;
+                    arg[i * m + j] = k as u16;
                 }
             }
         }
@@ -297,7 +309,7 @@ pub(crate) fn best_triangulation_above(
         if j - i < 2 {
             continue;
         }
-        let k = arg[i * m + j];
+        let k = usize::from(arg[i * m + j]);
         out.push([idx[i], idx[k], idx[j]]);
         stack.push((i, k));
         stack.push((k, j));
