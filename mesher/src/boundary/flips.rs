@@ -266,19 +266,17 @@ pub(crate) fn best_triangulation_above(
     if m < 3 {
         return Some(Vec::new());
     }
-    // The tables on the stack for rings up to MAX_RING (nearly every call: most are
-    // tried and fail, and two allocations per call were a tenth of their cost).
+    // The tables on the stack for rings up to MAX_RING (every caller's: most calls
+    // are tried and fail, and two allocations per call were a tenth of their cost).
     const STACK: usize = MAX_RING * MAX_RING;
-    let (mut best_stack, mut arg_stack) = ([f64::NEG_INFINITY; STACK], [0u16; STACK]);
-    let (mut best_heap, mut arg_heap) = (Vec::new(), Vec::new());
-    let (best, arg): (&mut [f64], &mut [u16]) = if m * m <= STACK && m <= usize::from(u16::MAX) {
+    let (mut best_stack, mut arg_stack) = ([f64::NEG_INFINITY; STACK], [0usize; STACK]);
+    let (mut best_heap, mut arg_heap);
+    let (best, arg): (&mut [f64], &mut [usize]) = if m <= MAX_RING {
         (&mut best_stack[..m * m], &mut arg_stack[..m * m])
-    } else if m <= usize::from(u16::MAX) {
-        best_heap.resize(m * m, f64::NEG_INFINITY);
-        arg_heap.resize(m * m, 0u16);
-        (&mut best_heap, &mut arg_heap)
     } else {
-        return None; // a ring of 65536 vertices: no O(m^3) program for it
+        best_heap = vec![f64::NEG_INFINITY; m * m];
+        arg_heap = vec![0usize; m * m];
+        (&mut best_heap, &mut arg_heap)
     };
     for i in 0..m - 1 {
         best[i * m + i + 1] = f64::INFINITY;
@@ -294,7 +292,7 @@ pub(crate) fn best_triangulation_above(
                 let v = sides.min(q(idx[i], idx[k], idx[j]));
                 if v > best[i * m + j] {
                     best[i * m + j] = v;
-                    arg[i * m + j] = k as u16;
+                    arg[i * m + j] = k;
                 }
             }
         }
@@ -309,7 +307,7 @@ pub(crate) fn best_triangulation_above(
         if j - i < 2 {
             continue;
         }
-        let k = usize::from(arg[i * m + j]);
+        let k = arg[i * m + j];
         out.push([idx[i], idx[k], idx[j]]);
         stack.push((i, k));
         stack.push((k, j));
