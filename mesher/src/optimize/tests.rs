@@ -268,6 +268,12 @@ fn debug_worst_tet_of_a_file() {
     };
     let r = optimize(&mut d, &OptimizeOptions::default());
     eprintln!("worst {} -> {}", r.worst_before, r.worst_after);
+    for p in &r.passes {
+        eprintln!(
+            "pass bad {} worst {} rem {} flips {} sm {} ins {} col {}",
+            p.bad_tets, p.worst, p.edge_removals, p.face_flips, p.smoothed, p.inserted, p.collapses
+        );
+    }
 }
 
 #[test]
@@ -373,4 +379,71 @@ fn random_descent_jumps_to_the_better_basin() {
     assert!(c > 0.99, "the compass left its basin: {c}");
     let (p, v) = super::ops::random_descent(score, start, score(start), 1.0);
     assert!(v < 0.52 && p.distance(b) < 0.005, "{v} at {p:?}");
+}
+
+#[test]
+#[ignore]
+fn debug_ops_on_a_tet() {
+    let Ok(path) = std::env::var("OPT_DEBUG_MESH") else {
+        return;
+    };
+    let want: Vec<u32> = std::env::var("OPT_DEBUG_TET")
+        .unwrap()
+        .split(',')
+        .map(|s| s.parse().unwrap())
+        .collect();
+    let vm = crate::io::read_volume(std::path::Path::new(&path)).unwrap();
+    let mesh = TetMesh::from_tets(vm.vertices.clone(), &vm.tets).unwrap();
+    let mut region = vec![1; vm.tets.len()];
+    region.resize(mesh.num_slots(), 0);
+    let mut fixed = vec![false; mesh.num_vertices()];
+    let mut locks = Locks::default();
+    for t in &vm.triangles {
+        for &x in t {
+            fixed[x as usize] = true;
+        }
+        let mut s = *t;
+        s.sort_unstable();
+        locks.faces.insert(s);
+        for (a, b) in [(s[0], s[1]), (s[1], s[2]), (s[0], s[2])] {
+            locks.edges.insert((a, b));
+        }
+    }
+    let mut ops = ops::Ops::new(Local::new(mesh), locks, region, fixed);
+    let find = |ops: &ops::Ops| {
+        ops.l.mesh.finite_tets().map(|t| t.0).find(|&t| {
+            let mut v = ops.l.tet(t);
+            v.sort_unstable();
+            let mut w = want.clone();
+            w.sort_unstable();
+            v.to_vec() == w
+        })
+    };
+    let t = find(&ops).expect("tet");
+    let v = ops.l.tet(t);
+    eprintln!("tet {t} {:?} q {}", v, ops.tet_quality(t));
+    for (i, j) in [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)] {
+        let mark = ops.l.mark();
+        let ok = ops.remove_edge(v[i], v[j]);
+        eprintln!("remove_edge {} {} -> {ok}", v[i], v[j]);
+        if ok {
+            ops.l.undo(mark);
+        }
+    }
+    for i in 0..4 {
+        let mark = ops.l.mark();
+        let ok = ops.flip23(t, i);
+        eprintln!("flip23 face {i} -> {ok}");
+        if ok {
+            ops.l.undo(mark);
+        }
+    }
+    let mark = ops.l.mark();
+    let ok = ops.insert_in(t);
+    eprintln!("insert_in -> {ok}");
+    if ok {
+        ops.l.undo(mark);
+    }
+    let ok = ops.insert_grown_around(t);
+    eprintln!("insert_grown_around -> {ok}");
 }

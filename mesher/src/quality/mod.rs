@@ -8,6 +8,7 @@
 //!   quality (§6.1);
 //! - [`target`]: the target quality `Q_t` of a boundary surface (§8): the best `Q_K`
 //!   reachable on its worst face;
+//! - [`room`]: the same with each face's tet kept inside the domain (thin parts);
 //! - [`summary`]: mesh-level statistics (Table 1 columns, `Q_K` and edge-length
 //!   histograms), streaming through [`SummaryBuilder`];
 //! - [`histogram`]: the paper's `Q_K` and edge-length bins (§8, Figs. 13-17).
@@ -18,6 +19,7 @@
 
 pub mod histogram;
 pub mod length;
+pub mod room;
 pub mod summary;
 pub mod target;
 pub mod tet;
@@ -27,6 +29,7 @@ pub use length::{
     edge_quality, normalized_length, normalized_length_piecewise, normalized_length_points,
     normalized_length_polyline, NEAR_EQUAL_RATIO_HIGH, NEAR_EQUAL_RATIO_LOW,
 };
+pub use room::{target_quality_in_domain, RoomQuality};
 pub use summary::{
     edge_length_histogram, edge_length_stats, median, mesh_edge_length_stats, summarize,
     summarize_tets, surface_edge_length_histogram, unique_tet_edges, unique_triangle_edges,

@@ -127,6 +127,79 @@ pub fn face_best_q_k(a: Point, b: Point, c: Point) -> f64 {
     }
 }
 
+/// The best apex of [`face_best_q_k`] in world coordinates, on the side of the face's
+/// normal `(b - a) x (c - a)` when `side > 0` (its mirror image otherwise: `Q_K` is
+/// symmetric through the face's plane), with its value; `None` for a degenerate face.
+pub(crate) fn face_best_apex(a: Point, b: Point, c: Point, side: f64) -> Option<(Point, f64)> {
+    let (local, frame) = local_face_frame(a, b, c)?;
+    let face = ApexQuality::new(&local);
+    let best = face.fast_min();
+    let [x, y] = best.1;
+    let r2 = face
+        .v
+        .iter()
+        .map(|v| (x - v[0]).powi(2) + (y - v[1]).powi(2))
+        .fold(0.0, f64::max);
+    let mut apex = Point::new(x, y, (face.l2 - r2).max(0.0).sqrt());
+    let mut value = best.0;
+    if face.off_edge_is_better(best) {
+        let (p, v) = precise_search(&face);
+        if v < value {
+            (apex, value) = (Point::new(p.x, p.y, p.z.abs()), v);
+        }
+    }
+    Some((frame.to_world(apex, side), value))
+}
+
+/// The local frame of a face: centroid, mean edge and orthonormal axes (the third the
+/// unit normal of `(b - a) x (c - a)`).
+pub(crate) struct Frame {
+    g: Point,
+    scale: f64,
+    axes: [Point; 3],
+}
+
+impl Frame {
+    /// The world point of local `(x, y, z)`, `z` taken along the normal times `side`'s
+    /// sign.
+    pub(crate) fn to_world(&self, p: Point, side: f64) -> Point {
+        let [e1, e2, e3] = self.axes;
+        self.g + (e1 * p.x + e2 * p.y + e3 * (p.z * side.signum())) * self.scale
+    }
+
+    /// The inverse of [`Frame::to_world`].
+    pub(crate) fn to_local(&self, p: Point, side: f64) -> Point {
+        let [e1, e2, e3] = self.axes;
+        let q = (p - self.g) / self.scale;
+        Point::new(q.dot(e1), q.dot(e2), q.dot(e3) * side.signum())
+    }
+}
+
+/// [`local_face`] with its frame.
+pub(crate) fn local_face_frame(a: Point, b: Point, c: Point) -> Option<([Point; 3], Frame)> {
+    let g = (a + b + c) / 3.0;
+    let (ab, ac) = (b - a, c - a);
+    let scale = (ab.length() + ac.length() + (c - b).length()) / 3.0;
+    let normal = ab.cross(ac);
+    let area2 = normal.length();
+    if !(scale.is_finite() && area2.is_finite() && area2 > 0.0 && scale > 0.0) {
+        return None;
+    }
+    let e1 = ab.normalize();
+    let e3 = normal / area2;
+    let e2 = e3.cross(e1);
+    let frame = Frame {
+        g,
+        scale,
+        axes: [e1, e2, e3],
+    };
+    let flat = |p: Point| {
+        let q = frame.to_local(p, 1.0);
+        Point::new(q.x, q.y, 0.0)
+    };
+    Some(([flat(a), flat(b), flat(c)], frame))
+}
+
 /// Golden-section iterations on each Voronoi edge: the bracket shrinks by
 /// `0.618^GOLDEN_ITERS` (~2e-6 of the edge's length; the value, at a smooth minimum,
 /// to ~1e-12 relative).
@@ -140,29 +213,14 @@ const SAFEGUARD_STEP: f64 = 1e-3;
 /// The face in its local frame: centroid at the origin, unit mean edge, in the plane
 /// `z = 0`. `None` if the face is degenerate or not finite.
 fn local_face(a: Point, b: Point, c: Point) -> Option<[Point; 3]> {
-    let g = (a + b + c) / 3.0;
-    let (ab, ac) = (b - a, c - a);
-    let mean_edge = (ab.length() + ac.length() + (c - b).length()) / 3.0;
-    let normal = ab.cross(ac);
-    let area2 = normal.length();
-    if !(mean_edge.is_finite() && area2.is_finite() && area2 > 0.0 && mean_edge > 0.0) {
-        return None;
-    }
-    let e1 = ab.normalize();
-    let e3 = normal / area2;
-    let e2 = e3.cross(e1);
-    let to_local = |p: Point| {
-        let q = (p - g) / mean_edge;
-        Point::new(q.dot(e1), q.dot(e2), 0.0)
-    };
-    Some([to_local(a), to_local(b), to_local(c)])
+    local_face_frame(a, b, c).map(|(local, _)| local)
 }
 
 /// `Q_K(a, b, c, P)` as a function of the apex `P` for a fixed face lying in the plane
 /// `z = 0`: the same formula as [`q_k`] (`ALPHA h_max S / (3V)`, here `3V = A0 |z|` and
 /// each side face has area `sqrt(|e|^2 z^2 + c(P)^2) / 2` with `c` the in-plane cross
 /// product), with the face's share precomputed: about half the cost per evaluation.
-struct ApexQuality {
+pub(crate) struct ApexQuality {
     /// Face vertices (x, y).
     v: [[f64; 2]; 3],
     /// Edge vectors `v[i+1] - v[i]`.
@@ -176,7 +234,7 @@ struct ApexQuality {
 }
 
 impl ApexQuality {
-    fn new(f: &[Point; 3]) -> ApexQuality {
+    pub(crate) fn new(f: &[Point; 3]) -> ApexQuality {
         let v = f.map(|p| [p.x, p.y]);
         let e: [[f64; 2]; 3] =
             std::array::from_fn(|i| [v[(i + 1) % 3][0] - v[i][0], v[(i + 1) % 3][1] - v[i][1]]);
@@ -294,7 +352,7 @@ impl ApexQuality {
     }
 
     #[inline]
-    fn q_k(&self, p: Point) -> f64 {
+    pub(crate) fn q_k(&self, p: Point) -> f64 {
         let z2 = p.z * p.z;
         let mut h2 = self.l2;
         let mut sides = 0.0;

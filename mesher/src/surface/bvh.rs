@@ -1,5 +1,5 @@
 //! Bounding volume hierarchy over axis-aligned boxes, used to find the candidate pairs
-//! of the self-intersection check.
+//! of the self-intersection check and the triangles near a tet (`quality::room`).
 //!
 //! A binary tree built top-down by splitting the items at the median of their box
 //! centres along the longest axis of the centres' extent (a median split keeps the depth
@@ -131,7 +131,6 @@ impl Bvh {
     }
 
     /// Calls `visit(id)` for every item whose box overlaps `q`, in no particular order.
-    #[cfg(test)]
     pub fn query(&self, q: &Box3, visit: impl FnMut(u32)) {
         self.query_after(0, q, visit);
     }

@@ -14,7 +14,7 @@
 //! fans), [`intersect`] (exact triangle-triangle test), `bvh` (box hierarchy), `shells`
 //! (components and nesting), [`report`] (the report types and their display).
 
-mod bvh;
+pub(crate) mod bvh;
 mod check;
 pub mod intersect;
 pub mod report;

@@ -1,0 +1,435 @@
+//! What the domain leaves room for: the target quality `Q_t` of paper §8 with the apex
+//! of each face's best tet kept inside the domain.
+//!
+//! `Q_t` takes, per boundary face, the best `Q_K` of a tet on it over every apex
+//! ([`super::target`]). A mesh that keeps the boundary has one tet on each face, on the
+//! domain's side, lying in the domain: where the domain is thinner than the face's best
+//! tet is tall (a gap between two walls, a thin tube, a needle face across a slot), no
+//! mesher reaches the per-face term. Here the term is the best `Q_K` over the apexes
+//! whose tet meets the surface only along the face: each face's best apex first (when
+//! its tet fits, the term is `Q_t`'s), else a search over lower and shifted apexes.
+//!
+//! The tet fits when none of its three other faces meets a surface triangle (other than
+//! along the vertices or edge they share by index, exact predicates of
+//! [`crate::surface::intersect`]) and no surface vertex lies strictly inside it. The
+//! domain's side of each face comes from its shell's orientation and nesting depth
+//! (the domain is inside the shells of even depth).
+//!
+//! The search (heights down to `2^-30` of the best apex's, over the best apex's foot and
+//! the centroid, then a compass search that only accepts apexes whose tet fits) finds a
+//! fitting apex, so the term is the value at an actual apex: an upper bound of the true
+//! constrained minimum, which a better search could only lower. It is a lower bound of
+//! the worst `Q_K` of any boundary-keeping mesh only up to that search's accuracy; the
+//! reports call it an estimate.
+
+use super::target::{face_best_apex, face_best_q_k, local_face_frame, ApexQuality};
+use crate::geom::predicates::{orient3d, Orientation};
+use crate::geom::Point;
+use crate::surface::bvh::{Box3, Bvh};
+use crate::surface::intersect::faces_intersect;
+use crate::surface::Surface;
+use rayon::prelude::*;
+
+/// Result of [`target_quality_in_domain`].
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct RoomQuality {
+    /// The largest in-domain term over the faces (>= `Q_t`).
+    #[serde(with = "crate::quality::histogram::nonfinite")]
+    pub q_t: f64,
+    /// The face reaching it (the first one on ties).
+    pub worst_face: Option<usize>,
+    /// Faces whose best tet does not fit in the domain (their term exceeds `Q_t`'s).
+    pub limited_faces: usize,
+    /// Faces whose in-domain term is above [`super::WELL_SHAPED_Q_K`].
+    pub hard_faces: usize,
+}
+
+/// Apex id of the tested tet: no surface vertex has it.
+const APEX: u32 = u32::MAX;
+
+/// Height factors tried below the best apex: `HEIGHT_RATIO^k`, `k = 1..=HEIGHT_STEPS`.
+const HEIGHT_RATIO: f64 = 0.5;
+const HEIGHT_STEPS: i32 = 30;
+
+/// Surface vertices within this many longest edges of a limited face's centroid are
+/// tried as apexes.
+const VERTEX_REACH: f64 = 2.0;
+
+/// At most this many vertex apexes (the best first) are tested per limited face.
+const MAX_VERTEX_APEXES: usize = 64;
+
+/// Random apexes tried per limited face, and the best of them (with the column's
+/// best) from which compass searches start.
+const RANDOM_STARTS: usize = 64;
+const COMPASS_STARTS: usize = 3;
+
+/// Evaluations of the compass search per limited face.
+const MAX_EVALS: usize = 150;
+
+/// The in-domain target quality of a clean, closed surface (`None` otherwise: the
+/// domain's side of a face is then undefined). Deterministic; parallel over the faces.
+pub fn target_quality_in_domain(surface: &Surface) -> Option<RoomQuality> {
+    let side = domain_sides(surface)?;
+    let room = Room::new(surface);
+    let terms: Vec<(f64, bool)> = (0..surface.triangles.len())
+        .into_par_iter()
+        .with_min_len(256)
+        .map(|f| room.face_term(f, side[f]))
+        .collect();
+    let mut out = RoomQuality {
+        q_t: 1.0,
+        worst_face: None,
+        limited_faces: 0,
+        hard_faces: 0,
+    };
+    for (f, &(q, limited)) in terms.iter().enumerate() {
+        if out.worst_face.is_none() || q > out.q_t {
+            (out.q_t, out.worst_face) = (q, Some(f));
+        }
+        out.limited_faces += usize::from(limited);
+        out.hard_faces += usize::from(q > super::WELL_SHAPED_Q_K);
+    }
+    Some(out)
+}
+
+/// Per face, the sign of its normal `(b - a) x (c - a)` that points into the domain.
+fn domain_sides(surface: &Surface) -> Option<Vec<f64>> {
+    let report = surface.check();
+    if !report.is_clean() {
+        return None;
+    }
+    let n = surface.triangles.len();
+    // Faces joined across their edges; each component named by its lowest face.
+    let mut parent: Vec<u32> = (0..n as u32).collect();
+    fn root(parent: &mut [u32], mut x: u32) -> u32 {
+        while parent[x as usize] != x {
+            let up = parent[parent[x as usize] as usize];
+            parent[x as usize] = up;
+            x = up;
+        }
+        x
+    }
+    let mut first: std::collections::HashMap<(u32, u32), u32> = Default::default();
+    for (f, t) in surface.triangles.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            let key = (a.min(b), a.max(b));
+            let g = *first.entry(key).or_insert(f as u32);
+            let (ra, rb) = (root(&mut parent, f as u32), root(&mut parent, g));
+            parent[ra.max(rb) as usize] = ra.min(rb);
+        }
+    }
+    let mut shell_side: std::collections::HashMap<u32, f64> = Default::default();
+    for s in &report.shells {
+        let depth = s.depth?;
+        let outward = if s.signed_volume > 0.0 { 1.0 } else { -1.0 };
+        let inside = if depth % 2 == 0 { 1.0 } else { -1.0 };
+        shell_side.insert(s.first_face, -outward * inside);
+    }
+    (0..n as u32)
+        .map(|f| shell_side.get(&root(&mut parent, f)).copied())
+        .collect()
+}
+
+/// The surface with a hierarchy over its triangles.
+struct Room<'a> {
+    surface: &'a Surface,
+    bvh: Bvh,
+}
+
+impl<'a> Room<'a> {
+    fn new(surface: &'a Surface) -> Self {
+        let items = surface
+            .triangles
+            .iter()
+            .enumerate()
+            .map(|(k, t)| (k as u32, bounds(&t.map(|i| surface.vertices[i as usize]))))
+            .collect();
+        Room {
+            surface,
+            bvh: Bvh::build(items),
+        }
+    }
+
+    /// The in-domain term of face `f` with the domain on `side` of its normal, and
+    /// whether its best tet did not fit.
+    fn face_term(&self, f: usize, side: f64) -> (f64, bool) {
+        let ids = self.surface.triangles[f];
+        let [a, b, c] = ids.map(|i| self.surface.vertices[i as usize]);
+        let (Some((apex, free)), Some((local, frame))) =
+            (face_best_apex(a, b, c, side), local_face_frame(a, b, c))
+        else {
+            return (face_best_q_k(a, b, c), false);
+        };
+        if self.fits(f, apex) {
+            return (free, false);
+        }
+        let quality = ApexQuality::new(&local);
+        let value = |p: Point| {
+            if p.z.is_nan() || p.z <= 0.0 {
+                return f64::INFINITY;
+            }
+            let q = quality.q_k(p);
+            if q.is_finite() && self.fits(f, frame.to_world(p, side)) {
+                q
+            } else {
+                f64::INFINITY
+            }
+        };
+        let top = frame.to_local(apex, side);
+        let mut best = (f64::INFINITY, top);
+        for k in 1..=HEIGHT_STEPS {
+            let z = top.z * HEIGHT_RATIO.powi(k);
+            for p in [Point::new(top.x, top.y, z), Point::new(0.0, 0.0, z)] {
+                let v = value(p);
+                if v < best.0 {
+                    best = (v, p);
+                }
+            }
+            if best.0.is_finite() && k > 2 && best.1.z > 2.0 * z {
+                break;
+            }
+        }
+        // Random starts over the half ball of radius the longest edge (local units)
+        // on the domain's side: the feasible set can be far from the best apex's
+        // column (a slot beside the face).
+        let l = (0..3)
+            .map(|i| local[i].distance(local[(i + 1) % 3]))
+            .fold(0.0, f64::max);
+        let mut rng = crate::delaunay::sort::SplitMix64::new(f as u64 ^ 0x5EED_0000);
+        let mut unit = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        let mut starts: Vec<(f64, Point)> = vec![best];
+        for _ in 0..RANDOM_STARTS {
+            let p = Point::new(
+                (2.0 * unit() - 1.0) * l,
+                (2.0 * unit() - 1.0) * l,
+                unit() * l,
+            );
+            let v = value(p);
+            if v.is_finite() {
+                starts.push((v, p));
+            }
+        }
+        starts.sort_by(|x, y| x.0.total_cmp(&y.0));
+        let searched = starts
+            .iter()
+            .take(COMPASS_STARTS)
+            .filter(|s| s.0.is_finite())
+            .map(|&s| compass(&value, s, MAX_EVALS))
+            .fold(f64::INFINITY, f64::min);
+        // The surface's own vertices near the face are apexes too (a tet of four
+        // surface vertices, its side faces on the surface: on CAD models the best one).
+        (searched.min(self.vertex_apexes(f, side)).max(free), true)
+    }
+
+    /// The best `Q_K` over the surface vertices within [`VERTEX_REACH`] longest edges
+    /// of face `f`'s centroid, on the domain's side, whose tet fits.
+    fn vertex_apexes(&self, f: usize, side: f64) -> f64 {
+        let s = self.surface;
+        let ids = s.triangles[f];
+        let [a, b, c] = ids.map(|i| s.vertices[i as usize]);
+        let reach = VERTEX_REACH * a.distance(b).max(b.distance(c)).max(c.distance(a));
+        let g = (a + b + c) / 3.0;
+        let around = Box3 {
+            min: (g - Point::splat(reach)).to_array(),
+            max: (g + Point::splat(reach)).to_array(),
+        };
+        let mut near: Vec<u32> = Vec::new();
+        self.bvh
+            .query(&around, |k| near.extend(s.triangles[k as usize]));
+        near.sort_unstable();
+        near.dedup();
+        let normal = (b - a).cross(c - a) * side;
+        // Best first: the first whose tet fits is the answer.
+        let mut by_q: Vec<(f64, u32)> = near
+            .iter()
+            .filter(|v| !ids.contains(v))
+            .filter_map(|&v| {
+                let p = s.vertices[v as usize];
+                let q = super::q_k(&[a, b, c, p]);
+                (normal.dot(p - a) > 0.0 && q.is_finite()).then_some((q, v))
+            })
+            .collect();
+        by_q.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+        by_q.iter()
+            .take(MAX_VERTEX_APEXES)
+            .find(|&&(_, v)| self.fits_apex(f, s.vertices[v as usize], v))
+            .map_or(f64::INFINITY, |&(q, _)| q)
+    }
+
+    /// Whether the tet on face `f` with apex `p` meets the surface only along `f`.
+    fn fits(&self, f: usize, p: Point) -> bool {
+        self.fits_apex(f, p, APEX)
+    }
+
+    /// [`Room::fits`] for an apex with vertex id `apex` ([`APEX`] for a new point).
+    fn fits_apex(&self, f: usize, p: Point, apex: u32) -> bool {
+        let s = self.surface;
+        let ids = s.triangles[f];
+        let [a, b, c] = ids.map(|i| s.vertices[i as usize]);
+        let tet = [a, b, c, p];
+        let sides = [
+            ([a, b, p], [ids[0], ids[1], apex]),
+            ([b, c, p], [ids[1], ids[2], apex]),
+            ([c, a, p], [ids[2], ids[0], apex]),
+        ];
+        let mut fits = true;
+        self.bvh.query(&bounds(&tet), |k| {
+            if !fits || k as usize == f {
+                return;
+            }
+            let t = s.triangles[k as usize];
+            let q = t.map(|i| s.vertices[i as usize]);
+            fits = !sides.iter().any(|(x, xi)| faces_intersect(x, *xi, &q, t))
+                && !t.iter().any(|&v| {
+                    v != apex && !ids.contains(&v) && strictly_inside(&tet, s.vertices[v as usize])
+                });
+        });
+        fits
+    }
+}
+
+/// Compass search from `start` (value, point): the six axis steps, halved when none
+/// improves, at most `budget` evaluations. Returns the best value.
+fn compass(f: &impl Fn(Point) -> f64, start: (f64, Point), budget: usize) -> f64 {
+    let (mut value, mut p) = start;
+    let mut step = 0.5 * p.z.max(1e-3);
+    let mut evals = 0;
+    while evals < budget && step > 1e-9 {
+        let mut moved = false;
+        for d in [
+            Point::X,
+            -Point::X,
+            Point::Y,
+            -Point::Y,
+            Point::Z,
+            -Point::Z,
+        ] {
+            let q = p + d * step;
+            let v = f(q);
+            evals += 1;
+            if v < value {
+                (value, p, moved) = (v, q, true);
+                break;
+            }
+        }
+        if !moved {
+            step *= 0.5;
+        }
+    }
+    value
+}
+
+/// Whether `v` lies strictly inside the tet `t` (exact orientations).
+fn strictly_inside(t: &[Point; 4], v: Point) -> bool {
+    let faces = [(0, 1, 2, 3), (0, 1, 3, 2), (0, 2, 3, 1), (1, 2, 3, 0)];
+    faces.iter().all(|&(i, j, k, m)| {
+        let inner = orient3d(t[i], t[j], t[k], t[m]);
+        inner != Orientation::Zero && orient3d(t[i], t[j], t[k], v) == inner
+    })
+}
+
+/// Bounding box of points.
+fn bounds(p: &[Point]) -> Box3 {
+    let mut b = Box3::EMPTY;
+    for q in p {
+        b = b.union(&Box3 {
+            min: [q.x, q.y, q.z],
+            max: [q.x, q.y, q.z],
+        });
+    }
+    b
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::surface::generate;
+
+    fn scaled(mut s: Surface, k: Point) -> Surface {
+        for v in &mut s.vertices {
+            *v *= k;
+        }
+        s
+    }
+
+    #[test]
+    fn a_round_body_leaves_room_for_every_best_tet() {
+        for s in [generate::icosphere(2), generate::torus(24, 12, 2.0, 0.7)] {
+            let free = super::super::target_quality(&s.vertices, &s.triangles).q_t;
+            let r = target_quality_in_domain(&s).unwrap();
+            assert_eq!(r.limited_faces, 0);
+            assert_eq!(r.q_t, free);
+        }
+    }
+
+    #[test]
+    fn a_thin_slab_limits_its_big_faces() {
+        // A unit cube of 4 x 4 squares per side, flattened to a hundredth: the best tet
+        // on a top square's half stands 0.2 high, the slab is 0.01 thick.
+        let s = scaled(generate::cube(4), Point::new(1.0, 1.0, 0.01));
+        let free = super::super::target_quality(&s.vertices, &s.triangles).q_t;
+        let r = target_quality_in_domain(&s).unwrap();
+        assert!(r.limited_faces >= 64, "{r:?}");
+        assert!(r.q_t >= free && r.q_t.is_finite());
+        // Each top and bottom face: about 8 in the slab against 1.2 in free space.
+        let (room, sides) = (Room::new(&s), domain_sides(&s).unwrap());
+        for (f, t) in s.triangles.iter().enumerate() {
+            let [a, b, c] = t.map(|i| s.vertices[i as usize]);
+            if (b - a).cross(c - a).normalize().z.abs() > 0.99 {
+                let (term, limited) = room.face_term(f, sides[f]);
+                let alone = face_best_q_k(a, b, c);
+                assert!(
+                    limited && term > 5.0 * alone,
+                    "face {f}: {term} against {alone}"
+                );
+            }
+        }
+        // The same slab turned inside out (a cavity in space) is the same domain's
+        // complement: the faces then have room on the other side.
+        let mut inside_out = s.clone();
+        for t in &mut inside_out.triangles {
+            t.swap(1, 2);
+        }
+        let r2 = target_quality_in_domain(&inside_out).unwrap();
+        assert_eq!(
+            r2.q_t, r.q_t,
+            "orientation decides nothing: the nesting does"
+        );
+    }
+
+    #[test]
+    fn an_open_surface_has_no_domain() {
+        let mut s = generate::cube(2);
+        s.triangles.pop();
+        assert!(target_quality_in_domain(&s).is_none());
+    }
+
+    /// Prints `Q_t` and the in-domain `Q_t` of the surfaces in `ROOM_FILES` (commas).
+    #[test]
+    #[ignore]
+    fn print_room_of_files() {
+        let Ok(list) = std::env::var("ROOM_FILES") else {
+            return;
+        };
+        for path in list.split(',') {
+            let s = crate::io::read_surface(std::path::Path::new(path))
+                .unwrap()
+                .surface;
+            let t0 = std::time::Instant::now();
+            let q = super::super::target_quality(&s.vertices, &s.triangles);
+            let r = target_quality_in_domain(&s).unwrap();
+            eprintln!(
+                "{path}: Q_t {:.3} (face {:?}) in domain {:.3} (face {:?}), limited {} hard {} of {}; {:.3} s",
+                q.q_t,
+                q.worst_face,
+                r.q_t,
+                r.worst_face,
+                r.limited_faces,
+                r.hard_faces,
+                s.triangles.len(),
+                t0.elapsed().as_secs_f64()
+            );
+        }
+    }
+}
