@@ -2,7 +2,8 @@
 //! (this module only assembles inputs for it: orientation, face sets, sizes).
 //!
 //! - Input: `Q_t` (`target_quality`), the fraction of faces whose best reachable `Q_K`
-//!   exceeds 3 (`face_best_q_k`), the enclosed volume (shells signed by nesting depth),
+//!   exceeds 3 (`face_best_q_k`), the same two with each face's tet kept inside the
+//!   domain (`target_quality_in_domain`: thin parts), the enclosed volume (shells signed by nesting depth),
 //!   and the size `h(P) = (shortest + longest edge at P) / 2` at every input vertex
 //!   (NOTES.md §3).
 //! - Output: [`QualitySummary`] against `Q_t`; normalised edge lengths with the size at
@@ -25,6 +26,11 @@ pub struct InputMeasures {
     pub q_t: f64,
     /// Fraction of faces with `face_best_q_k > 3`.
     pub hard_face_fraction: f64,
+    /// `Q_t` in the domain (`target_quality_in_domain`: each face's best tet kept
+    /// inside the domain; None when the surface is not clean and closed).
+    pub q_t_domain: Option<f64>,
+    /// Fraction of faces whose best tet inside the domain has `Q_K > 3`.
+    pub hard_domain_fraction: Option<f64>,
     /// Volume enclosed by the surface (None when its shells are not clean and closed).
     pub enclosed_volume: Option<f64>,
     /// Size `h(P)` per input vertex.
@@ -64,9 +70,14 @@ pub fn measure_input(surface: &Surface) -> InputMeasures {
     } else {
         hard as f64 / t.len() as f64
     };
+    let room = quality::target_quality_in_domain(surface);
     InputMeasures {
         q_t,
         hard_face_fraction,
+        q_t_domain: room.map(|r| r.q_t),
+        hard_domain_fraction: room
+            .filter(|_| !t.is_empty())
+            .map(|r| r.hard_faces as f64 / t.len() as f64),
         enclosed_volume: enclosed_volume(surface),
         sizes: vertex_sizes(surface),
     }

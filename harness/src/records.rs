@@ -100,6 +100,13 @@ pub struct Record {
     pub q_t: Option<f64>,
     /// Fraction of input faces whose best possible Q_K exceeds 3.
     pub hard_face_fraction: Option<f64>,
+    /// Target quality with each face's best tet kept inside the domain (an estimate,
+    /// `mesher::quality::room`).
+    #[serde(default)]
+    pub q_t_domain: Option<f64>,
+    /// Fraction of input faces whose best tet inside the domain has Q_K above 3.
+    #[serde(default)]
+    pub hard_domain_fraction: Option<f64>,
     /// Output vertices.
     pub vertices: Option<usize>,
     /// Output tets.
@@ -181,6 +188,8 @@ pub const CSV_COLUMNS: &[&str] = &[
     "input_faces",
     "q_t",
     "hard_face_fraction",
+    "q_t_domain",
+    "hard_domain_fraction",
     "vertices",
     "tets",
     "wall_seconds",
@@ -252,6 +261,8 @@ impl Record {
             self.input_faces.to_string(),
             opt(self.q_t),
             opt(self.hard_face_fraction),
+            opt(self.q_t_domain),
+            opt(self.hard_domain_fraction),
             opt(self.vertices),
             opt(self.tets),
             opt(self.wall_seconds),

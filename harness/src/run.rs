@@ -377,6 +377,8 @@ fn unmeasured_input() -> InputMeasures {
     InputMeasures {
         q_t: f64::NAN,
         hard_face_fraction: f64::NAN,
+        q_t_domain: None,
+        hard_domain_fraction: None,
         enclosed_volume: None,
         sizes: Vec::new(),
     }
@@ -396,6 +398,8 @@ fn run_one(
         Ok((p, s, i, h)) => {
             rec.q_t = Some(i.q_t);
             rec.hard_face_fraction = Some(i.hard_face_fraction);
+            rec.q_t_domain = i.q_t_domain;
+            rec.hard_domain_fraction = i.hard_domain_fraction;
             (p, s, i, h)
         }
         Err(NotPrepared::Unreadable(_)) if info.id.starts_with("ours") => {
@@ -555,6 +559,8 @@ fn blank_record(ctx: &Context_, model: &Model, info: &crate::runners::PeerInfo) 
         input_faces: 0,
         q_t: None,
         hard_face_fraction: None,
+        q_t_domain: None,
+        hard_domain_fraction: None,
         vertices: None,
         tets: None,
         wall_seconds: None,

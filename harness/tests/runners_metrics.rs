@@ -37,6 +37,13 @@ fn regular_tet_has_q_k_one_and_keeps_its_boundary() {
     let input = measure_input(&s);
     assert!((input.q_t - 1.0).abs() < 1e-6, "q_t {}", input.q_t);
     assert_eq!(input.hard_face_fraction, 0.0);
+    // Inside the tet, each face's best tet is the tet itself (apex: a surface vertex).
+    let in_domain = input.q_t_domain.unwrap();
+    assert!(
+        (in_domain - 1.0).abs() < 1e-6,
+        "q_t in the domain {in_domain}"
+    );
+    assert_eq!(input.hard_domain_fraction, Some(0.0));
     let m = measure_output(&input, &s, mesh(&p, vec![[0, 1, 2, 3]]), true).unwrap();
     assert!((m.quality.worst_q_k - 1.0).abs() < 1e-12);
     assert!((m.quality.min_dihedral - 70.528_779_365_509_3).abs() < 1e-9);
@@ -146,4 +153,24 @@ fn boundary_surface_drops_interior_faces_and_vertices() {
     assert_eq!(b.triangles.len(), 4);
     assert_eq!(b.vertices.len(), 4);
     assert!(b.check().is_clean());
+}
+
+#[test]
+fn a_thin_slab_has_less_room_than_its_faces_alone() {
+    // The unit cube of 4 x 4 squares per side, a hundredth thick: the faces alone allow
+    // Q_K 41 (the side strips are needles), the big faces only ~8 inside the slab
+    // where 1.2 alone.
+    let mut s = mesher::surface::generate::cube(4);
+    for v in &mut s.vertices {
+        v.z *= 0.01;
+    }
+    let input = measure_input(&s);
+    let in_domain = input.q_t_domain.unwrap();
+    assert!(in_domain >= input.q_t, "{in_domain} < {}", input.q_t);
+    // Every face: the 64 top and bottom ones are limited to Q_K > 3 now.
+    let hard = input.hard_domain_fraction.unwrap();
+    assert!(hard > input.hard_face_fraction + 0.3, "{hard}");
+    // An open surface has no domain.
+    s.triangles.pop();
+    assert_eq!(measure_input(&s).q_t_domain, None);
 }

@@ -93,13 +93,18 @@ pub struct ModelInfo {
     pub q_t: Option<f64>,
     /// Fraction of input faces whose best possible `Q_K` exceeds 3.
     pub hard_face_fraction: Option<f64>,
+    /// Target quality with each face's tet kept inside the domain.
+    pub q_t_domain: Option<f64>,
+    /// Fraction of input faces whose best tet inside the domain has `Q_K` above 3.
+    pub hard_domain_fraction: Option<f64>,
 }
 
 impl ModelInfo {
     /// True when the surface itself caps the worst-case quality of any mesher.
     pub fn surface_limited(&self) -> bool {
-        self.hard_face_fraction
-            .is_some_and(|f| f >= HARD_FACE_LIMIT)
+        [self.hard_face_fraction, self.hard_domain_fraction]
+            .iter()
+            .any(|f| f.is_some_and(|f| f >= HARD_FACE_LIMIT))
     }
 }
 
@@ -200,6 +205,8 @@ fn merge_model(models: &mut Vec<ModelInfo>, r: &Record) {
                 input_faces: 0,
                 q_t: None,
                 hard_face_fraction: None,
+                q_t_domain: None,
+                hard_domain_fraction: None,
             });
             models.last_mut().expect("just pushed")
         }
@@ -208,6 +215,8 @@ fn merge_model(models: &mut Vec<ModelInfo>, r: &Record) {
     m.input_faces = m.input_faces.max(r.input_faces);
     m.q_t = m.q_t.or(r.q_t);
     m.hard_face_fraction = m.hard_face_fraction.or(r.hard_face_fraction);
+    m.q_t_domain = m.q_t_domain.or(r.q_t_domain);
+    m.hard_domain_fraction = m.hard_domain_fraction.or(r.hard_domain_fraction);
 }
 
 fn merge_mesher(meshers: &mut Vec<MesherInfo>, r: &Record) {

@@ -74,7 +74,8 @@ fn model_section(run: &RunData, plots: &[Plot], m: usize) -> String {
     let info = &run.models[m];
     let mut s = format!(
         "<h2 id=\"model-{}\">{}</h2>\n<p>{} tier, {}; input {} vertices, {} faces; Q<sub>t</sub> = {}; \
-         hard faces {}.</p>\n",
+         hard faces {}; in the domain (each face's best tet kept inside it, an estimate) \
+         Q<sub>t</sub> = {}, hard faces {}.</p>\n",
         html_escape(&info.id),
         html_escape(&table::model_label(run, m)),
         html_escape(&info.tier),
@@ -83,6 +84,9 @@ fn model_section(run: &RunData, plots: &[Plot], m: usize) -> String {
         info.input_faces,
         info.q_t.map_or("–".into(), table::fmt_q),
         info.hard_face_fraction
+            .map_or("–".into(), |f| format!("{:.1} %", 100.0 * f)),
+        info.q_t_domain.map_or("–".into(), table::fmt_q),
+        info.hard_domain_fraction
             .map_or("–".into(), |f| format!("{:.1} %", 100.0 * f)),
     );
     if info.surface_limited() {

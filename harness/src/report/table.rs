@@ -7,7 +7,7 @@
 //! note under the table.
 
 use crate::records::{Record, Status};
-use crate::report::data::{cpu_or_wall, status_name, tets_per_second, RunData};
+use crate::report::data::{cpu_or_wall, status_name, tets_per_second, ModelInfo, RunData};
 
 /// Mark of a mesher that moves the input boundary.
 pub const MOVES_BOUNDARY: &str = "†";
@@ -91,16 +91,30 @@ pub fn model_label(run: &RunData, m: usize) -> String {
     }
 }
 
+/// The in-domain `Q_t` of a model where it exceeds `Q_t` (thin parts), as a clause.
+fn domain_note(m: &ModelInfo) -> String {
+    match (m.q_t, m.q_t_domain, m.hard_domain_fraction) {
+        (Some(q), Some(d), Some(f)) if d > q * 1.001 => format!(
+            "; with each face's best tet kept inside the domain (its thin parts), Q_t = {} and \
+             {:.1} % of the faces above 3 (an estimate)",
+            fmt_q(d),
+            100.0 * f
+        ),
+        _ => String::new(),
+    }
+}
+
 /// The notes for the marks used in `run`.
 pub fn notes(run: &RunData) -> Vec<String> {
     let mut out = Vec::new();
     for m in run.models.iter().filter(|m| m.surface_limited()) {
         out.push(format!(
             "{SURFACE_LIMIT} {}: the surface is the limit: no mesher can reach good worst-case quality \
-             on this surface (Q_t = {}; {:.1} % of the input faces have best possible Q_K > 3).",
+             on this surface (Q_t = {}; {:.1} % of the input faces have best possible Q_K > 3{}).",
             m.id,
             opt(m.q_t, fmt_q),
-            100.0 * m.hard_face_fraction.unwrap_or(0.0)
+            100.0 * m.hard_face_fraction.unwrap_or(0.0),
+            domain_note(m)
         ));
     }
     for k in &run.meshers {

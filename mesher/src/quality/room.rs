@@ -55,16 +55,16 @@ const HEIGHT_STEPS: i32 = 30;
 /// tried as apexes.
 const VERTEX_REACH: f64 = 2.0;
 
-/// At most this many vertex apexes (the best first) are tested per limited face.
-const MAX_VERTEX_APEXES: usize = 64;
+/// At most this many vertex apexes (the nearest first) are tested per limited face.
+const MAX_VERTEX_APEXES: usize = 128;
 
 /// Random apexes tried per limited face, and the best of them (with the column's
 /// best) from which compass searches start.
-const RANDOM_STARTS: usize = 64;
+const RANDOM_STARTS: usize = 32;
 const COMPASS_STARTS: usize = 3;
 
 /// Evaluations of the compass search per limited face.
-const MAX_EVALS: usize = 150;
+const MAX_EVALS: usize = 100;
 
 /// The in-domain target quality of a clean, closed surface (`None` otherwise: the
 /// domain's side of a face is then undefined). Deterministic; parallel over the faces.
@@ -219,12 +219,18 @@ impl<'a> Room<'a> {
             .fold(f64::INFINITY, f64::min);
         // The surface's own vertices near the face are apexes too (a tet of four
         // surface vertices, its side faces on the surface: on CAD models the best one).
-        (searched.min(self.vertex_apexes(f, side)).max(free), true)
+        (
+            searched
+                .min(self.vertex_apexes(f, side, searched))
+                .max(free),
+            true,
+        )
     }
 
-    /// The best `Q_K` over the surface vertices within [`VERTEX_REACH`] longest edges
-    /// of face `f`'s centroid, on the domain's side, whose tet fits.
-    fn vertex_apexes(&self, f: usize, side: f64) -> f64 {
+    /// The best `Q_K` below `below` over the surface vertices within [`VERTEX_REACH`]
+    /// longest edges of face `f`'s centroid, on the domain's side, whose tet fits
+    /// (infinite if none).
+    fn vertex_apexes(&self, f: usize, side: f64, below: f64) -> f64 {
         let s = self.surface;
         let ids = s.triangles[f];
         let [a, b, c] = ids.map(|i| s.vertices[i as usize]);
@@ -240,21 +246,34 @@ impl<'a> Room<'a> {
         near.sort_unstable();
         near.dedup();
         let normal = (b - a).cross(c - a) * side;
-        // Best first: the first whose tet fits is the answer.
-        let mut by_q: Vec<(f64, u32)> = near
+        // Nearest first (the far ones are mostly behind a wall), each tested only if
+        // it would beat the best so far.
+        let mut cand: Vec<(f64, f64, u32)> = near
             .iter()
             .filter(|v| !ids.contains(v))
             .filter_map(|&v| {
                 let p = s.vertices[v as usize];
                 let q = super::q_k(&[a, b, c, p]);
-                (normal.dot(p - a) > 0.0 && q.is_finite()).then_some((q, v))
+                let inward = normal.dot(p - a) > 0.0;
+                (inward && q < below).then_some((p.distance(g), q, v))
             })
             .collect();
-        by_q.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
-        by_q.iter()
-            .take(MAX_VERTEX_APEXES)
-            .find(|&&(_, v)| self.fits_apex(f, s.vertices[v as usize], v))
-            .map_or(f64::INFINITY, |&(q, _)| q)
+        cand.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.2.cmp(&y.2)));
+        let mut best = f64::INFINITY;
+        let mut tests = 0;
+        for (_, q, v) in cand {
+            if q >= best {
+                continue;
+            }
+            if tests == MAX_VERTEX_APEXES {
+                break;
+            }
+            tests += 1;
+            if self.fits_apex(f, s.vertices[v as usize], v) {
+                best = q;
+            }
+        }
+        best
     }
 
     /// Whether the tet on face `f` with apex `p` meets the surface only along `f`.
@@ -280,7 +299,12 @@ impl<'a> Room<'a> {
             }
             let t = s.triangles[k as usize];
             let q = t.map(|i| s.vertices[i as usize]);
-            fits = !sides.iter().any(|(x, xi)| faces_intersect(x, *xi, &q, t))
+            // A side face that is this surface triangle lies on the boundary: the tet
+            // touches it from inside (two of its faces on the surface).
+            let same = |xi: &[u32; 3]| xi.iter().all(|v| t.contains(v));
+            fits = !sides
+                .iter()
+                .any(|(x, xi)| !same(xi) && faces_intersect(x, *xi, &q, t))
                 && !t.iter().any(|&v| {
                     v != apex && !ids.contains(&v) && strictly_inside(&tet, s.vertices[v as usize])
                 });
@@ -419,6 +443,13 @@ mod tests {
             let t0 = std::time::Instant::now();
             let q = super::super::target_quality(&s.vertices, &s.triangles);
             let r = target_quality_in_domain(&s).unwrap();
+            if let Ok(out) = std::env::var("ROOM_TERMS") {
+                let (room, sides) = (Room::new(&s), domain_sides(&s).unwrap());
+                let terms: Vec<String> = (0..s.triangles.len())
+                    .map(|f| format!("{}", room.face_term(f, sides[f]).0))
+                    .collect();
+                std::fs::write(out, terms.join("\n")).unwrap();
+            }
             eprintln!(
                 "{path}: Q_t {:.3} (face {:?}) in domain {:.3} (face {:?}), limited {} hard {} of {}; {:.3} s",
                 q.q_t,
