@@ -149,6 +149,9 @@ pub struct CheckReport {
     pub self_intersections: SelfIntersections,
     /// Connected components.
     pub shells: Vec<Shell>,
+    /// Shell id of each face (`u32::MAX` for a face with an invalid index).
+    #[serde(skip)]
+    pub face_shell: Vec<u32>,
     /// Vertices used by no face (not a defect).
     pub unreferenced_vertices: usize,
     /// Non-fatal remarks (shell orientation against nesting).

@@ -138,6 +138,7 @@ pub(crate) fn shells(s: &Surface, st: &FaceStatus, et: &EdgeTable, r: &mut Check
         });
     }
     nesting(s, st, &sf, r);
+    r.face_shell = label;
 }
 
 /// Sum of the signed volumes of the tetrahedra (origin, face) over finite faces.
