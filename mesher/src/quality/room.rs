@@ -167,45 +167,13 @@ impl<'a> Room<'a> {
                 f64::INFINITY
             }
         };
-        let top = frame.to_local(apex, side);
-        let mut best = (f64::INFINITY, top);
-        for k in 1..=HEIGHT_STEPS {
-            let z = top.z * HEIGHT_RATIO.powi(k);
-            for p in [Point::new(top.x, top.y, z), Point::new(0.0, 0.0, z)] {
-                let v = value(p);
-                if v < best.0 {
-                    best = (v, p);
-                }
-            }
-            if best.0.is_finite() && k > 2 && best.1.z > 2.0 * z {
-                break;
-            }
-        }
-        // Random starts over the half ball of radius the longest edge (local units)
-        // on the domain's side: the feasible set can be far from the best apex's
-        // column (a slot beside the face).
         let l = (0..3)
             .map(|i| local[i].distance(local[(i + 1) % 3]))
             .fold(0.0, f64::max);
-        let mut rng = crate::delaunay::sort::SplitMix64::new(f as u64 ^ 0x5EED_0000);
-        let mut unit = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
-        let mut starts: Vec<(f64, Point)> = vec![best];
-        for _ in 0..RANDOM_STARTS {
-            let p = Point::new(
-                (2.0 * unit() - 1.0) * l,
-                (2.0 * unit() - 1.0) * l,
-                unit() * l,
-            );
-            let v = value(p);
-            if v.is_finite() {
-                starts.push((v, p));
-            }
-        }
-        starts.sort_by(|x, y| x.0.total_cmp(&y.0));
+        let starts = search_starts(&value, frame.to_local(apex, side), l, f as u64);
         let searched = starts
             .iter()
             .take(COMPASS_STARTS)
-            .filter(|s| s.0.is_finite())
             .map(|&s| compass(&value, s, MAX_EVALS))
             .fold(f64::INFINITY, f64::min);
         // The surface's own vertices near the face are apexes too (a tet of four
@@ -302,6 +270,50 @@ impl<'a> Room<'a> {
         });
         fits
     }
+}
+
+/// Starts of the compass searches for a face whose best apex `top` (local frame) does
+/// not fit, best first: the best fitting apex below `top` or the centroid (heights
+/// halved down to `2^-HEIGHT_STEPS`), then [`RANDOM_STARTS`] random apexes over the
+/// half box of side `l` (the longest edge) on the domain's side, seeded by `seed`
+/// (the feasible set can lie away from the column: a slot beside the face). Only
+/// fitting ones (finite value) are kept.
+fn search_starts(
+    value: &impl Fn(Point) -> f64,
+    top: Point,
+    l: f64,
+    seed: u64,
+) -> Vec<(f64, Point)> {
+    let mut best = (f64::INFINITY, top);
+    for k in 1..=HEIGHT_STEPS {
+        let z = top.z * HEIGHT_RATIO.powi(k);
+        for p in [Point::new(top.x, top.y, z), Point::new(0.0, 0.0, z)] {
+            let v = value(p);
+            if v < best.0 {
+                best = (v, p);
+            }
+        }
+        if best.0.is_finite() && k > 2 && best.1.z > 2.0 * z {
+            break;
+        }
+    }
+    let mut rng = crate::delaunay::sort::SplitMix64::new(seed ^ 0x5EED_0000);
+    let mut unit = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+    let mut starts: Vec<(f64, Point)> = vec![best];
+    for _ in 0..RANDOM_STARTS {
+        let p = Point::new(
+            (2.0 * unit() - 1.0) * l,
+            (2.0 * unit() - 1.0) * l,
+            unit() * l,
+        );
+        let v = value(p);
+        if v.is_finite() {
+            starts.push((v, p));
+        }
+    }
+    starts.retain(|s| s.0.is_finite());
+    starts.sort_by(|x, y| x.0.total_cmp(&y.0));
+    starts
 }
 
 /// Compass search from `start` (value, point): the six axis steps, halved when none
