@@ -16,6 +16,7 @@
 
 use crate::records::Validity;
 use mesher::quality::{self, EdgeLengthStats, QualitySummary};
+use mesher::surface::report::CheckReport;
 use mesher::{Point, Surface, VolumeMesh};
 use std::collections::HashMap;
 
@@ -70,7 +71,9 @@ pub fn measure_input(surface: &Surface) -> InputMeasures {
     } else {
         hard as f64 / t.len() as f64
     };
-    let room = quality::target_quality_in_domain(surface);
+    // One check serves the enclosed volume and the domain's side of each face.
+    let report = surface.check();
+    let room = quality::target_quality_in_domain(surface, &report);
     InputMeasures {
         q_t,
         hard_face_fraction,
@@ -78,14 +81,13 @@ pub fn measure_input(surface: &Surface) -> InputMeasures {
         hard_domain_fraction: room
             .filter(|_| !t.is_empty())
             .map(|r| r.hard_faces as f64 / t.len() as f64),
-        enclosed_volume: enclosed_volume(surface),
+        enclosed_volume: enclosed_volume(&report),
         sizes: vertex_sizes(surface),
     }
 }
 
 /// Enclosed volume: |shell volume| added at even nesting depth, subtracted at odd depth.
-fn enclosed_volume(surface: &Surface) -> Option<f64> {
-    let report = surface.check();
+fn enclosed_volume(report: &CheckReport) -> Option<f64> {
     if !report.is_clean() {
         return None;
     }

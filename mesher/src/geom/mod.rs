@@ -3,6 +3,7 @@
 
 pub mod chebyshev;
 pub mod predicates;
+pub(crate) mod search;
 
 /// A point or vector of 3D space.
 pub type Point = glam::DVec3;

@@ -22,6 +22,7 @@ use super::Smoothing;
 use crate::boundary::flips::{best_triangulation_above, Locks, MAX_RING};
 use crate::boundary::local::Local;
 use crate::geom::predicates::Orientation;
+use crate::geom::search::compass;
 use crate::geom::Point;
 use crate::quality::target::face_best_q_k;
 use crate::quality::tet::{min_dihedral, q_k, signed_volume, WELL_SHAPED_Q_K};
@@ -858,9 +859,6 @@ const GROWN_LAYERS: usize = 4;
 /// Largest grown cavity, in tets.
 const MAX_GROWN_CAVITY: usize = 64;
 
-/// Halvings of the compass search's step.
-const COMPASS_HALVINGS: usize = 12;
-
 /// Trials per scale of [`random_descent`].
 const DESCENT_TRIALS: usize = 256;
 
@@ -891,44 +889,6 @@ pub(super) fn random_descent(
         }
     }
     best
-}
-
-/// A compass search from `p` (value `value`) for a lower `score`: steps of `step` along
-/// each axis, both ways, taken while they improve, then halved, [`COMPASS_HALVINGS`]
-/// times. `score` may return any value at or above its current best when a point is no
-/// better (an early exit). Returns the best value and point.
-pub(super) fn compass(
-    score: impl Fn(Point) -> f64,
-    mut p: Point,
-    mut value: f64,
-    mut step: f64,
-) -> (f64, Point) {
-    let dirs = [
-        Point::X,
-        -Point::X,
-        Point::Y,
-        -Point::Y,
-        Point::Z,
-        -Point::Z,
-    ];
-    for _ in 0..COMPASS_HALVINGS {
-        // At most a few moves per step length: the search is a last resort, kept cheap.
-        for _ in 0..4 {
-            let mut moved = false;
-            for d in dirs {
-                let q = p + d * step;
-                let s = score(q);
-                if s < value {
-                    (value, p, moved) = (s, q, true);
-                }
-            }
-            if !moved {
-                break;
-            }
-        }
-        step *= 0.5;
-    }
-    (value, p)
 }
 
 /// `values.fold(1.0, f64::max)` when that is below `bound`; otherwise the running maximum

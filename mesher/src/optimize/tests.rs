@@ -290,7 +290,7 @@ fn compass_search_finds_the_thin_valid_lens() {
         }
     };
     let start = Point::new(0.5, 0.0, 0.0);
-    let (value, p) = super::ops::compass(score, start, score(start), 0.1);
+    let (value, p) = crate::geom::search::compass(score, start, score(start), 0.1);
     assert!(value < 1.0 + 1e-3, "{value} at {p:?}");
 }
 
@@ -375,7 +375,7 @@ fn random_descent_jumps_to_the_better_basin() {
     let (a, b) = (Point::ZERO, Point::new(0.5, 0.6, 0.2));
     let score = |p: Point| (1.0 + p.distance(a)).min(0.5 + p.distance(b));
     let start = a + Point::new(0.01, 0.0, 0.0);
-    let (c, _) = super::ops::compass(score, start, score(start), 0.05);
+    let (c, _) = crate::geom::search::compass(score, start, score(start), 0.05);
     assert!(c > 0.99, "the compass left its basin: {c}");
     let (p, v) = super::ops::random_descent(score, start, score(start), 1.0);
     assert!(v < 0.52 && p.distance(b) < 0.005, "{v} at {p:?}");

@@ -24,15 +24,17 @@
 //! which a better search could only lower, so a lower bound of the worst `Q_K` of a
 //! boundary-keeping mesh only up to the search's accuracy. Measured against our own
 //! meshes (the tet each keeps on a face must not beat the face's term): none does by
-//! more than 3e-4 relative on the CAD models of the ci tier; on cheese 10 faces of
-//! 17 786 do, by up to 16 % (interior apexes the search missed). The reports call it
+//! more than 5e-5 relative on the CAD models of the ci tier and turbine; on cheese 8
+//! faces of 17 786 do, by up to 16 % (interior apexes the search missed). The reports call it
 //! an estimate.
 
 use super::target::{face_best_apex, face_best_q_k, local_face_frame, ApexQuality};
 use crate::geom::predicates::{orient3d, Orientation};
+use crate::geom::search::compass;
 use crate::geom::Point;
 use crate::surface::bvh::{Box3, Bvh};
 use crate::surface::intersect::faces_intersect;
+use crate::surface::report::CheckReport;
 use crate::surface::Surface;
 use rayon::prelude::*;
 
@@ -69,13 +71,11 @@ const MAX_VERTEX_APEXES: usize = 128;
 const RANDOM_STARTS: usize = 32;
 const COMPASS_STARTS: usize = 3;
 
-/// Evaluations of the compass search per limited face.
-const MAX_EVALS: usize = 100;
-
-/// The in-domain target quality of a clean, closed surface (`None` otherwise: the
-/// domain's side of a face is then undefined). Deterministic; parallel over the faces.
-pub fn target_quality_in_domain(surface: &Surface) -> Option<RoomQuality> {
-    let side = domain_sides(surface)?;
+/// The in-domain target quality of a clean, closed surface, `report` its
+/// [`Surface::check`] (`None` when the report is not clean: the domain's side of a face
+/// is then undefined). Deterministic; parallel over the faces.
+pub fn target_quality_in_domain(surface: &Surface, report: &CheckReport) -> Option<RoomQuality> {
+    let side = domain_sides(report)?;
     let room = Room::new(surface);
     let terms: Vec<(f64, bool)> = (0..surface.triangles.len())
         .into_par_iter()
@@ -101,8 +101,7 @@ pub fn target_quality_in_domain(surface: &Surface) -> Option<RoomQuality> {
 /// Per face, the sign of its normal `(b - a) x (c - a)` that points into the domain:
 /// inwards on a shell of even nesting depth, outwards on one of odd depth (a cavity),
 /// whichever way the shell's faces turn.
-fn domain_sides(surface: &Surface) -> Option<Vec<f64>> {
-    let report = surface.check();
+fn domain_sides(report: &CheckReport) -> Option<Vec<f64>> {
     if !report.is_clean() {
         return None;
     }
@@ -174,7 +173,7 @@ impl<'a> Room<'a> {
         let searched = starts
             .iter()
             .take(COMPASS_STARTS)
-            .map(|&s| compass(&value, s, MAX_EVALS))
+            .map(|&(v, p)| compass(value, p, v, 0.5 * p.z.max(1e-3)).0)
             .fold(f64::INFINITY, f64::min);
         // The surface's own vertices near the face are apexes too (a tet of four
         // surface vertices, its side faces on the surface: on CAD models the best one).
@@ -316,37 +315,6 @@ fn search_starts(
     starts
 }
 
-/// Compass search from `start` (value, point): the six axis steps, halved when none
-/// improves, at most `budget` evaluations. Returns the best value.
-fn compass(f: &impl Fn(Point) -> f64, start: (f64, Point), budget: usize) -> f64 {
-    let (mut value, mut p) = start;
-    let mut step = 0.5 * p.z.max(1e-3);
-    let mut evals = 0;
-    while evals < budget && step > 1e-9 {
-        let mut moved = false;
-        for d in [
-            Point::X,
-            -Point::X,
-            Point::Y,
-            -Point::Y,
-            Point::Z,
-            -Point::Z,
-        ] {
-            let q = p + d * step;
-            let v = f(q);
-            evals += 1;
-            if v < value {
-                (value, p, moved) = (v, q, true);
-                break;
-            }
-        }
-        if !moved {
-            step *= 0.5;
-        }
-    }
-    value
-}
-
 /// Whether `v` lies strictly inside the tet `t` (exact orientations).
 fn strictly_inside(t: &[Point; 4], v: Point) -> bool {
     let faces = [(0, 1, 2, 3), (0, 1, 3, 2), (0, 2, 3, 1), (1, 2, 3, 0)];
@@ -384,7 +352,7 @@ mod tests {
     fn a_round_body_leaves_room_for_every_best_tet() {
         for s in [generate::icosphere(2), generate::torus(24, 12, 2.0, 0.7)] {
             let free = super::super::target_quality(&s.vertices, &s.triangles).q_t;
-            let r = target_quality_in_domain(&s).unwrap();
+            let r = target_quality_in_domain(&s, &s.check()).unwrap();
             assert_eq!(r.limited_faces, 0);
             assert_eq!(r.q_t, free);
         }
@@ -396,11 +364,11 @@ mod tests {
         // on a top square's half stands 0.2 high, the slab is 0.01 thick.
         let s = scaled(generate::cube(4), Point::new(1.0, 1.0, 0.01));
         let free = super::super::target_quality(&s.vertices, &s.triangles).q_t;
-        let r = target_quality_in_domain(&s).unwrap();
+        let r = target_quality_in_domain(&s, &s.check()).unwrap();
         assert!(r.limited_faces >= 64, "{r:?}");
         assert!(r.q_t >= free && r.q_t.is_finite());
         // Each top and bottom face: about 8 in the slab against 1.2 in free space.
-        let (room, sides) = (Room::new(&s), domain_sides(&s).unwrap());
+        let (room, sides) = (Room::new(&s), domain_sides(&s.check()).unwrap());
         for (f, t) in s.triangles.iter().enumerate() {
             let [a, b, c] = t.map(|i| s.vertices[i as usize]);
             if (b - a).cross(c - a).normalize().z.abs() > 0.99 {
@@ -418,7 +386,7 @@ mod tests {
         for t in &mut inside_out.triangles {
             t.swap(1, 2);
         }
-        let r2 = target_quality_in_domain(&inside_out).unwrap();
+        let r2 = target_quality_in_domain(&inside_out, &inside_out.check()).unwrap();
         assert_eq!(
             r2.q_t, r.q_t,
             "orientation decides nothing: the nesting does"
@@ -429,7 +397,7 @@ mod tests {
     fn an_open_surface_has_no_domain() {
         let mut s = generate::cube(2);
         s.triangles.pop();
-        assert!(target_quality_in_domain(&s).is_none());
+        assert!(target_quality_in_domain(&s, &s.check()).is_none());
     }
 
     /// Prints `Q_t` and the in-domain `Q_t` of the surfaces in `ROOM_FILES` (commas).
@@ -445,9 +413,9 @@ mod tests {
                 .surface;
             let t0 = std::time::Instant::now();
             let q = super::super::target_quality(&s.vertices, &s.triangles);
-            let r = target_quality_in_domain(&s).unwrap();
+            let r = target_quality_in_domain(&s, &s.check()).unwrap();
             if let Ok(out) = std::env::var("ROOM_TERMS") {
-                let (room, sides) = (Room::new(&s), domain_sides(&s).unwrap());
+                let (room, sides) = (Room::new(&s), domain_sides(&s.check()).unwrap());
                 let terms: Vec<String> = (0..s.triangles.len())
                     .map(|f| format!("{}", room.face_term(f, sides[f]).0))
                     .collect();
