@@ -222,6 +222,27 @@ fn corpus_models_are_recovered_exactly() {
     }
 }
 
+/// Interior Steiner points left in T(S,F), at most TetGen -pY's on the same models
+/// (measured here with TetGen 1.6: cheese 21, anchor 24, turbine 24, hinge 18). Before
+/// the star search and the link edge removals of `boundary::reconnect`, cheese kept 26.
+#[test]
+fn interior_steiner_points_stay_at_most_tetgens() {
+    for (rel, tetgen) in [
+        ("cgal/meshes/cheese.off", 21),
+        ("cgal/meshes/anchor.off", 24),
+        ("cgal/meshes/turbine.off", 24),
+        ("netgen/hinge.stl", 18),
+    ] {
+        let Some(s) = corpus(rel) else { return };
+        let r = recover(rel, &s);
+        assert!(
+            r.steiner_interior <= tetgen,
+            "{rel}: {}",
+            r.steiner_interior
+        );
+    }
+}
+
 /// Insertion seeds that once failed or kept split points, each with what it needs
 /// now (`exactly`: no Steiner point left on an input edge):
 /// - turbine, seeds 1 and 4 with two levels of preparatory removals (the seed alone):

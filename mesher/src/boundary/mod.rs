@@ -28,7 +28,8 @@
 //! edge removal by ring re-triangulation), `recover` (segment and face recovery),
 //! `domain` (flood fill, regions, volumes), `split` (boundary Steiner points),
 //! `attempts` (the sorted, shuffled and rebuilding attempts),
-//! `suppress` (taking Steiner points out again).
+//! `suppress` (taking Steiner points out again), `reconnect` (the star of a Steiner
+//! point re-tetrahedralised without it, by search).
 
 mod attempts;
 mod cone;
@@ -37,6 +38,7 @@ mod fan;
 pub(crate) mod flips;
 mod insert;
 pub(crate) mod local;
+mod reconnect;
 mod recover;
 mod split;
 mod suppress;
@@ -581,6 +583,9 @@ fn suppress_splits(
     }
 }
 
+/// Passes of the interior Steiner point suppression.
+const SUPPRESS_PASSES: usize = 4;
+
 /// Tries to take every interior Steiner point out again (paper §4.2's "remove or
 /// relocate"): the ones that are not needed go. Removing one can free another, so
 /// passes repeat while one removes some.
@@ -591,11 +596,26 @@ fn suppress(
     report: &mut BoundaryReport,
 ) {
     let before = steiner.len();
-    for _ in 0..4 {
+    // Points whose deep removal failed, with the clock then and their neighbours: it
+    // is tried again only when a tet around them has changed.
+    let mut failed: HashMap<u32, (u32, Vec<u32>)> = HashMap::default();
+    for _ in 0..SUPPRESS_PASSES {
         let n = steiner.len();
-        // A point outside the domain goes with the outside: no work for it.
         steiner.retain(|v| {
-            !inside.get(v.index()).copied().unwrap_or(false) || !rec.remove_steiner(v.0)
+            // A point outside the domain goes with the outside: no work for it.
+            if !inside.get(v.index()).copied().unwrap_or(false) {
+                return true;
+            }
+            let deep = failed
+                .get(&v.0)
+                .is_none_or(|(since, near)| rec.l.stamps.changed_since(near, *since));
+            if rec.remove_steiner(v.0, deep) {
+                return false;
+            }
+            if deep {
+                failed.insert(v.0, (rec.l.stamps.clock, rec.neighbours(v.0)));
+            }
+            true
         });
         if steiner.len() == n {
             break;

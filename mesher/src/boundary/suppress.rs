@@ -17,6 +17,7 @@
 
 use super::flips::Choice;
 use super::local::GHOST;
+use super::reconnect;
 use super::recover::Recovery;
 
 /// Edge removals at a Steiner point before its removal is given up.
@@ -85,11 +86,17 @@ impl Recovery {
     }
 
     /// Removes the interior Steiner point `s`: the cone from a neighbour, else edge
-    /// removals at `s` (each lowers its degree) until a cone works; bounded. The flips
-    /// made on a failed attempt stay: each is a checked, valid change that keeps every
-    /// lock (the undo journal cannot replay a chain of flips that re-use tet slots).
-    pub fn remove_steiner(&mut self, s: u32) -> bool {
+    /// removals at `s` (each lowers its degree) until a cone works; bounded. With
+    /// `deep`, then a search for any tetrahedralisation of its star (and of its star
+    /// with the tets next to it) without it, and again after removals of edges of its
+    /// link ([`Recovery::remove_by_reconnection`]). The flips made on a failed attempt
+    /// stay: each is a checked, valid change that keeps every lock (the undo journal
+    /// cannot replay a chain of flips that re-use tet slots).
+    pub fn remove_steiner(&mut self, s: u32, deep: bool) -> bool {
         self.with_fewer_edges(s, |rec| rec.remove_vertex(s) || rec.remove_grown(s))
+            || (deep
+                && (self.remove_by_reconnection(s, reconnect::SEARCH_BUDGET)
+                    || self.remove_after_link_flips(s)))
     }
 
     /// `remove()`, and if it fails, again after each edge removal at `s` (each lowers
