@@ -74,7 +74,7 @@ enum Command {
         seed: Option<u64>,
     },
     /// The volume mesh of the domain bounded by a closed surface (paper §2-§5).
-    Mesh(MeshArgs),
+    Mesh(Box<MeshArgs>),
     /// Check a surface: open, non-manifold, self-intersecting, degenerate.
     Check {
         /// The surface (.off, .obj, .stl, .mesh).
@@ -158,6 +158,9 @@ struct MeshArgs {
     /// Shape bound of acceptance: a tet with Q_K above it is unacceptable
     #[arg(long, default_value_t = mesher::front::FrontParams::default().q_accept)]
     q_accept: f64,
+    /// Accepted tets worse than this Q_K join the cavity of a point next to them (inf: never)
+    #[arg(long, default_value_t = mesher::front::FrontParams::default().absorb_q_k)]
+    absorb_q_k: f64,
     /// Points proposed per front face: the optimal point and deeper ones along the normal
     #[arg(long, default_value_t = mesher::front::FrontParams::default().layers)]
     front_layers: usize,

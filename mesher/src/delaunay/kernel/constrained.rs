@@ -98,6 +98,28 @@ impl Kernel {
         hint: Option<TetId>,
         veto: &mut dyn FnMut(u32) -> bool,
     ) -> Result<(), Rejection> {
+        self.constrained_cavity_absorbing(mesh, cons, p, hint, veto, &mut |_| false)
+    }
+
+    /// [`Self::constrained_cavity_with`], the cavity also taking in the tets it borders
+    /// without being in conflict with them for which `absorb` is true (without growing
+    /// further from them). The Delaunay cavity never reaches a bad tet whose circumball
+    /// holds no new point (a flat tet made of two nearly coplanar surface triangles,
+    /// whose circumball lies outside the domain; a sliver between points of the first
+    /// layers): a caller can let the cavities take such tets in. Enlarging the cavity
+    /// is George and Borouchaki's generalised kernel (the cavity changed for the
+    /// elements' sake; the mesh is no longer Delaunay there): the correction keeps it
+    /// star-shaped, so the mesh stays valid. Whether a tet taken in is star-shaped from
+    /// the point alone is not asked: bad tets side by side often are together.
+    pub fn constrained_cavity_absorbing(
+        &mut self,
+        mesh: &TetMesh,
+        cons: &Constraints,
+        p: Point,
+        hint: Option<TetId>,
+        veto: &mut dyn FnMut(u32) -> bool,
+        absorb: &mut dyn FnMut(u32) -> bool,
+    ) -> Result<(), Rejection> {
         if crate::delaunay::check_point(0, p).is_err() {
             // A point with a NaN, infinite or out-of-range coordinate is in no tet of
             // the domain.
@@ -116,7 +138,7 @@ impl Kernel {
         if cons.region.get(start as usize).copied().unwrap_or(0) == 0 {
             return Err(Rejection::Outside);
         }
-        let r = if self.grow_constrained(mesh, cons, p, start, veto) {
+        let r = if self.grow_constrained(mesh, cons, p, start, veto, absorb) {
             self.correct_cavity(mesh, cons, p, start)
         } else {
             Err(Rejection::Vetoed)
@@ -190,6 +212,7 @@ impl Kernel {
         p: Point,
         start: u32,
         veto: &mut dyn FnMut(u32) -> bool,
+        absorb: &mut dyn FnMut(u32) -> bool,
     ) -> bool {
         self.ensure_marks(mesh);
         let filter = self.filter_for(p);
@@ -216,17 +239,19 @@ impl Kernel {
                 }
                 // Regions are separated by constrained faces, so the region test is
                 // only a safety net, paid for the (fewer) tets in conflict.
-                let ok = in_conflict(mesh, &filter, u, p)
-                    && mesh.raw_tet(u)[3] != GHOST
-                    && cons.region[u as usize] == region;
-                if ok {
+                let same = mesh.raw_tet(u)[3] != GHOST && cons.region[u as usize] == region;
+                let conflict = same && in_conflict(mesh, &filter, u, p);
+                if conflict || (same && absorb(u)) {
                     self.marks[u as usize] = IN;
                     self.cavity.push(u);
                     if veto(u) {
                         self.stats.cavity_tets += self.cavity.len() as u64;
                         return false;
                     }
-                    self.stack.push(u);
+                    // A tet taken in does not grow the cavity further.
+                    if conflict {
+                        self.stack.push(u);
+                    }
                 } else {
                     self.marks[u as usize] = OUT;
                     self.touched.push(u);
@@ -403,6 +428,7 @@ impl Kernel {
 mod tests {
     use super::*;
     use crate::delaunay::{triangulate, DelaunayOptions};
+    use crate::geom::predicates::StaticFilter;
 
     /// A Delaunay mesh of a jittered 4x4x4 grid, every finite tet in region 1.
     fn grid() -> (TetMesh, Constraints) {
@@ -541,6 +567,44 @@ mod tests {
         let v = mesh.point(VertexId(5));
         let on = k.constrained_cavity(&mesh, &cons, v, None);
         assert_eq!(on, Err(Rejection::OnVertex));
+    }
+
+    /// Cavities that take in every tet they border (the most the correction can be
+    /// asked to repair) keep the mesh valid, and do take some in.
+    #[test]
+    fn absorbing_cavities_keep_the_mesh_valid() {
+        let (mut mesh, mut cons) = grid();
+        let volume = |m: &TetMesh| -> f64 {
+            m.finite_tets()
+                .map(|t| {
+                    crate::quality::signed_volume(&m.raw_tet(t.0).map(|v| m.point(VertexId(v))))
+                })
+                .sum()
+        };
+        let before = volume(&mesh);
+        let mut k = Kernel::new();
+        let (mut inserted, mut absorbed) = (0, 0);
+        for i in 0..200u32 {
+            let f = |s: u32| ((i.wrapping_mul(s) % 997) as f64 / 997.0) * 2.8 + 0.1;
+            let p = Point::new(f(31), f(57), f(83));
+            let ok =
+                k.constrained_cavity_absorbing(&mesh, &cons, p, None, &mut |_| false, &mut |_| {
+                    true
+                });
+            if ok.is_ok() {
+                let filter = StaticFilter::none();
+                absorbed += k
+                    .cavity_tets()
+                    .iter()
+                    .filter(|&&t| !in_conflict(&mesh, &filter, t, p))
+                    .count();
+                k.commit_cavity(&mut mesh, &mut cons, p).unwrap();
+                inserted += 1;
+            }
+        }
+        assert!(inserted > 100 && absorbed > 100, "{inserted} {absorbed}");
+        mesh.validate(false).unwrap();
+        assert!((volume(&mesh) - before).abs() < 1e-9 * before);
     }
 
     #[test]
