@@ -349,6 +349,7 @@ pub fn advance(
         kernel.set_bounds(bb.min, bb.max);
     }
     let mut report = FrontReport::default();
+    let mut absorbable: Vec<u8> = Vec::new();
     let mut last = None;
     let first_seed = fm.h.len() as u32;
     for level in seed::candidates(fm, field, params) {
@@ -359,7 +360,7 @@ pub fn advance(
             if let Some(t) = last {
                 c.k2 = t;
             }
-            if let Ok(removed) = insert(&mut kernel, fm, c, params)? {
+            if let Ok(removed) = insert(&mut kernel, fm, c, params, &mut absorbable)? {
                 report.seeds += 1;
                 tets = tets + kernel.new_tets().len() - removed;
                 let slots = fm.mesh.num_slots();
@@ -401,7 +402,7 @@ pub fn advance(
         rec.filtered = cands.len() - kept.len();
         let kept = reorder(&kept, 0x5EED ^ it as u64);
         for c in kept {
-            match insert(&mut kernel, fm, c, params)? {
+            match insert(&mut kernel, fm, c, params, &mut absorbable)? {
                 Ok(removed) => {
                     rec.inserted += 1;
                     tets = tets + kernel.new_tets().len() - removed;
@@ -662,6 +663,7 @@ fn insert(
     fm: &mut FieldMesh,
     c: Candidate,
     params: &FrontParams,
+    absorbable: &mut Vec<u8>,
 ) -> Result<Result<usize, usize>, FrontError> {
     let hint = fm.mesh.is_alive(TetId(c.k2)).then_some(TetId(c.k2));
     let (mesh, cons, h) = (&fm.mesh, &fm.cons, &fm.h);
@@ -676,21 +678,28 @@ fn insert(
             filter::close(c.p, q, c.h, hq, c.delta_v)
         })
     };
-    // Accepted tets (whose edges fit the size: no point will go in them) worse than
-    // `absorb_q_k` join the cavities they border.
     // Tets whose edges all fit the size (the front puts no point in them) and whose
-    // Q_K is above `absorb_q_k` join the cavities they border.
+    // Q_K is above `absorb_q_k` join the cavities they border. A tet's answer holds
+    // while it lives: kept per slot (0 unknown, 1 no, 2 yes), reset when the slot is
+    // reused.
+    if absorbable.len() < mesh.num_slots() {
+        absorbable.resize(mesh.num_slots(), 0);
+    }
     let mut absorb = |t: u32| {
-        if cons.region[t as usize] == 0 {
-            return false;
+        let known = absorbable[t as usize];
+        if known != 0 {
+            return known == 2;
         }
         let v = mesh.raw_tet(t);
         let p = v.map(|x| mesh.points()[x as usize]);
-        q_k(&p) > params.absorb_q_k
+        let yes = cons.region[t as usize] != 0
+            && q_k(&p) > params.absorb_q_k
             && TET_EDGES.iter().all(|&[i, j]| {
                 let l = p[i].distance(p[j]);
                 normalized_length(l, h[v[i] as usize], h[v[j] as usize]) <= params.delta
-            })
+            });
+        absorbable[t as usize] = 1 + u8::from(yes);
+        yes
     };
     if let Err(r) =
         kernel.constrained_cavity_absorbing(mesh, cons, c.p, hint, &mut veto, &mut absorb)
@@ -716,6 +725,11 @@ fn insert(
     }
     let removed = kernel.cavity_tets().len();
     kernel.commit_cavity(&mut fm.mesh, &mut fm.cons, c.p)?;
+    for &t in kernel.new_tets() {
+        if let Some(a) = absorbable.get_mut(t as usize) {
+            *a = 0;
+        }
+    }
     fm.h.push(c.h);
     fm.hint.push(c.hint);
     Ok(Ok(removed))
