@@ -127,7 +127,8 @@ pub struct FrontParams {
     /// layers, are otherwise left to the optimisation. Measured before optimisation
     /// (`Q_K < 3`): torus 89.3 -> 95.4 %, nested-spheres 94.8 -> 97.0, elephant 94.4
     /// -> 95.2, knot2 92.0 -> 93.4, box-with-hole 91.8 -> 92.7, turbine 84.9 -> 89.4;
-    /// front time up to +15 %. With 3: about the same before optimisation, and after
+    /// front time up to +15 % on the small models, bunny00 +3 %. The seed lattices'
+    /// insertions take in only tets with two surface faces. With 3: about the same before optimisation, and after
     /// it rotor's worst 105 -> 75 but homer's 82.9 -> 91.7 (Q_t 81.3). Absorbing every
     /// bad tet, the big boundary-mesh tets not yet refined included, made bunny00
     /// worse (97.4 -> 96.6 %) and 60 % slower.
@@ -360,7 +361,10 @@ pub fn advance(
             if let Some(t) = last {
                 c.k2 = t;
             }
-            if let Ok(removed) = insert(&mut kernel, fm, c, params, &mut absorbable)? {
+            // Seeds take in only flat tets on the surface: the lattice's own tets are
+            // the front's to refine (taking them in too made bunny00 slower, 6.4 ->
+            // 6.9 s, and worse, 97.5 -> 97.2 % Q_K < 3 before optimisation).
+            if let Ok(removed) = insert(&mut kernel, fm, c, params, &mut absorbable, true)? {
                 report.seeds += 1;
                 tets = tets + kernel.new_tets().len() - removed;
                 let slots = fm.mesh.num_slots();
@@ -402,7 +406,7 @@ pub fn advance(
         rec.filtered = cands.len() - kept.len();
         let kept = reorder(&kept, 0x5EED ^ it as u64);
         for c in kept {
-            match insert(&mut kernel, fm, c, params, &mut absorbable)? {
+            match insert(&mut kernel, fm, c, params, &mut absorbable, false)? {
                 Ok(removed) => {
                     rec.inserted += 1;
                     tets = tets + kernel.new_tets().len() - removed;
@@ -664,6 +668,7 @@ fn insert(
     c: Candidate,
     params: &FrontParams,
     absorbable: &mut Vec<u8>,
+    surface_only: bool,
 ) -> Result<Result<usize, usize>, FrontError> {
     let hint = fm.mesh.is_alive(TetId(c.k2)).then_some(TetId(c.k2));
     let (mesh, cons, h) = (&fm.mesh, &fm.cons, &fm.h);
@@ -686,6 +691,9 @@ fn insert(
         absorbable.resize(mesh.num_slots(), 0);
     }
     let mut absorb = |t: u32| {
+        if surface_only && cons.face_mask[t as usize].count_ones() < 2 {
+            return false;
+        }
         let known = absorbable[t as usize];
         if known != 0 {
             return known == 2;
