@@ -87,9 +87,9 @@ impl Recovery {
 
     /// Removes the interior Steiner point `s`: the cone from a neighbour, else edge
     /// removals at `s` (each lowers its degree) until a cone works; bounded. With
-    /// `deep`, then a search for any tetrahedralisation of its star (and of its star
-    /// with the tets next to it) without it, and again after removals of edges of its
-    /// link ([`Recovery::remove_by_reconnection`]). The flips made on a failed attempt
+    /// `deep`, then a search for any tetrahedralisation of its star without it, and
+    /// again after removals of edges of its link
+    /// ([`Recovery::remove_by_reconnection`]). The flips made on a failed attempt
     /// stay: each is a checked, valid change that keeps every lock (the undo journal
     /// cannot replay a chain of flips that re-use tet slots).
     pub fn remove_steiner(&mut self, s: u32, deep: bool) -> bool {

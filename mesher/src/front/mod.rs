@@ -128,10 +128,10 @@ pub struct FrontParams {
     /// (`Q_K < 3`): torus 89.3 -> 95.4 %, nested-spheres 94.8 -> 97.0, elephant 94.4
     /// -> 95.2, knot2 92.0 -> 93.4, box-with-hole 91.8 -> 92.7, turbine 84.9 -> 89.4;
     /// front time up to +15 % on the small models, bunny00 +3 %. The seed lattices'
-    /// insertions take in only tets with two surface faces. With 3: about the same before optimisation, and after
-    /// it rotor's worst 105 -> 75 but homer's 82.9 -> 91.7 (Q_t 81.3). Absorbing every
-    /// bad tet, the big boundary-mesh tets not yet refined included, made bunny00
-    /// worse (97.4 -> 96.6 %) and 60 % slower.
+    /// insertions take in only tets with two surface faces. With 3: about the same
+    /// before optimisation, and after it rotor's worst 105 -> 75 but homer's 82.9 ->
+    /// 91.7 (Q_t 81.3). Absorbing every bad tet, the big boundary-mesh tets not yet
+    /// refined included, made bunny00 worse (97.4 -> 96.6 %) and 60 % slower.
     pub absorb_q_k: f64,
     /// Bound on the iterations. The largest models need more than the paper's dozen:
     /// sphere-100k converges in 64 (bunny00 47, armadillo 32); the late iterations
