@@ -168,6 +168,11 @@ pub(crate) fn remove_edge(
     Ok(())
 }
 
+/// [`shape_of`] of the tet with corners `p` (inexact; it only ranks).
+pub(super) fn tet_shape(p: [Point; 4]) -> f64 {
+    shape_of(volume6(p[0], p[1], p[2], p[3]), p[0], p[1], p[2], p[3])
+}
+
 /// Six times the signed volume of tet `abcd` (inexact).
 #[inline]
 fn volume6(a: Point, b: Point, c: Point, d: Point) -> f64 {

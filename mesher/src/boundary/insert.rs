@@ -46,10 +46,13 @@ impl Recovery {
             // grows over every tet the true one can: its tets and their neighbours
             // are all the kernel reads.
             reach.clear();
-            let _ = kernel.constrained_cavity_with(&self.l.mesh, &cons, p, None, &mut |t| {
+            let mut record = |t| {
                 reach.push(t);
                 false
-            });
+            };
+            let never = &mut |_| false;
+            let _ =
+                kernel.constrained_cavity_with(&self.l.mesh, &cons, p, None, &mut record, never);
             self.learn_masks(&reach, &mut cons, &mut known);
             let v = match kernel.constrained_cavity(&self.l.mesh, &cons, p, None) {
                 Ok(()) => {

@@ -23,7 +23,7 @@
 //! at 5 (its twisted prisms between the top face and the hole's wall need a chain of
 //! flips outside the star that this does not find).
 
-use super::flips::Choice;
+use super::flips::{self, Choice};
 use super::local::GHOST;
 use super::recover::Recovery;
 use crate::geom::predicates::Orientation;
@@ -222,7 +222,11 @@ impl Search<'_> {
             }
             self.budget -= 1;
             if let Some(closed) = self.fits(&open, k, v) {
-                apexes.push((closed, self.shape([f[0], f[1], f[2], v]), v));
+                apexes.push((
+                    closed,
+                    flips::tet_shape([f[0], f[1], f[2], v].map(|x| self.p(x))),
+                    v,
+                ));
             }
         }
         // Apexes that close the most faces first, then the best shaped.
@@ -325,19 +329,6 @@ impl Search<'_> {
             && FACE_VERTICES[..3]
                 .iter()
                 .any(|fv| faces_intersect(&fv.map(|i| tp[i]), fv.map(|i| t[i]), &hp, h))
-    }
-
-    /// Volume over the edge lengths cubed (0 for a flat tet, largest when regular).
-    fn shape(&self, t: [u32; 4]) -> f64 {
-        let p = t.map(|v| self.p(v));
-        let vol = (p[1] - p[0]).cross(p[2] - p[0]).dot(p[3] - p[0]);
-        let mut l2 = 0.0;
-        for i in 0..4 {
-            for j in i + 1..4 {
-                l2 += p[i].distance_squared(p[j]);
-            }
-        }
-        vol / (l2 * l2.sqrt()).max(f64::MIN_POSITIVE)
     }
 }
 

@@ -122,7 +122,7 @@ pub struct FrontParams {
     pub q_accept: f64,
     /// Tets whose edges all fit the size (no point goes in them: `l <= delta`,
     /// end-point form) and whose `Q_K` is above this join the cavity of a point next
-    /// to them ([`Kernel::constrained_cavity_absorbing`]); infinity: never. The flat
+    /// to them ([`Kernel::constrained_cavity_with`]); infinity: never. The flat
     /// tets two nearly coplanar surface triangles make, and the slivers of the first
     /// layers, are otherwise left to the optimisation. Measured before optimisation
     /// (`Q_K < 3`): torus 89.3 -> 95.4 %, nested-spheres 94.8 -> 97.0, elephant 94.4
@@ -709,9 +709,7 @@ fn insert(
         absorbable[t as usize] = 1 + u8::from(yes);
         yes
     };
-    if let Err(r) =
-        kernel.constrained_cavity_absorbing(mesh, cons, c.p, hint, &mut veto, &mut absorb)
-    {
+    if let Err(r) = kernel.constrained_cavity_with(mesh, cons, c.p, hint, &mut veto, &mut absorb) {
         return Ok(Err(match r {
             Rejection::Outside => 0,
             Rejection::Emptied => 1,

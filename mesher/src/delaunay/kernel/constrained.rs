@@ -82,7 +82,7 @@ impl Kernel {
         p: Point,
         hint: Option<TetId>,
     ) -> Result<(), Rejection> {
-        self.constrained_cavity_with(mesh, cons, p, hint, &mut |_| false)
+        self.constrained_cavity_with(mesh, cons, p, hint, &mut |_| false, &mut |_| false)
     }
 
     /// [`Self::constrained_cavity`], rejecting the point ([`Rejection::Vetoed`]) as soon
@@ -90,28 +90,18 @@ impl Kernel {
     /// correction, which may remove tets again: the veto is the stricter for it). A
     /// caller that would refuse a point for a vertex or a face of its cavity learns it
     /// here at the first such tet, not after the whole cavity is built.
+    ///
+    /// The cavity also takes in the tets it borders without being in conflict with them
+    /// for which `absorb` is true (without growing further from them). The Delaunay
+    /// cavity never reaches a bad tet whose circumball holds no new point (a flat tet
+    /// made of two nearly coplanar surface triangles, whose circumball lies outside the
+    /// domain; a sliver between points of the first layers): a caller can let the
+    /// cavities take such tets in. Enlarging the cavity is George and Borouchaki's
+    /// generalised kernel (the cavity changed for the elements' sake; the mesh is no
+    /// longer Delaunay there): the correction keeps it star-shaped, so the mesh stays
+    /// valid. Whether a tet taken in is star-shaped from the point alone is not asked:
+    /// bad tets side by side often are together.
     pub fn constrained_cavity_with(
-        &mut self,
-        mesh: &TetMesh,
-        cons: &Constraints,
-        p: Point,
-        hint: Option<TetId>,
-        veto: &mut dyn FnMut(u32) -> bool,
-    ) -> Result<(), Rejection> {
-        self.constrained_cavity_absorbing(mesh, cons, p, hint, veto, &mut |_| false)
-    }
-
-    /// [`Self::constrained_cavity_with`], the cavity also taking in the tets it borders
-    /// without being in conflict with them for which `absorb` is true (without growing
-    /// further from them). The Delaunay cavity never reaches a bad tet whose circumball
-    /// holds no new point (a flat tet made of two nearly coplanar surface triangles,
-    /// whose circumball lies outside the domain; a sliver between points of the first
-    /// layers): a caller can let the cavities take such tets in. Enlarging the cavity
-    /// is George and Borouchaki's generalised kernel (the cavity changed for the
-    /// elements' sake; the mesh is no longer Delaunay there): the correction keeps it
-    /// star-shaped, so the mesh stays valid. Whether a tet taken in is star-shaped from
-    /// the point alone is not asked: bad tets side by side often are together.
-    pub fn constrained_cavity_absorbing(
         &mut self,
         mesh: &TetMesh,
         cons: &Constraints,
@@ -549,7 +539,7 @@ mod tests {
             seen += 1;
             true
         };
-        let r = k.constrained_cavity_with(&mesh, &cons, p, None, &mut veto);
+        let r = k.constrained_cavity_with(&mesh, &cons, p, None, &mut veto, &mut |_| false);
         assert_eq!(r, Err(Rejection::Vetoed));
         assert_eq!(seen, 1, "the growth stops at the first refused tet");
         // Marks were reset: the same point goes in without a veto.
@@ -588,9 +578,7 @@ mod tests {
             let f = |s: u32| ((i.wrapping_mul(s) % 997) as f64 / 997.0) * 2.8 + 0.1;
             let p = Point::new(f(31), f(57), f(83));
             let ok =
-                k.constrained_cavity_absorbing(&mesh, &cons, p, None, &mut |_| false, &mut |_| {
-                    true
-                });
+                k.constrained_cavity_with(&mesh, &cons, p, None, &mut |_| false, &mut |_| true);
             if ok.is_ok() {
                 let filter = StaticFilter::none();
                 absorbed += k
