@@ -153,11 +153,9 @@ impl Recovery {
         if !verts.iter().all(|v| open.iter().any(|f| f.contains(v))) {
             return None;
         }
-        let points: Vec<Point> = verts.iter().map(|&v| self.l.p(v)).collect();
         let mut search = Search {
             rec: self,
             verts: &verts,
-            points: &points,
             budget,
             tets: Vec::new(),
             faces: Vec::new(),
@@ -174,7 +172,6 @@ impl Recovery {
 struct Search<'a> {
     rec: &'a Recovery,
     verts: &'a [u32],
-    points: &'a [Point],
     budget: usize,
     tets: Vec<[u32; 4]>,
     faces: Vec<[u32; 3]>,
@@ -183,8 +180,7 @@ struct Search<'a> {
 
 impl Search<'_> {
     fn p(&self, v: u32) -> Point {
-        let k = self.verts.binary_search(&v).unwrap_or(0);
-        self.points[k]
+        self.rec.l.p(v)
     }
 
     fn positive(&self, f: [u32; 3], v: u32) -> bool {
@@ -325,7 +321,14 @@ impl Search<'_> {
                 g.contains(&x) || self.rec.l.orient(g[0], g[1], g[2], x) == Orientation::Negative
             })
         });
+        // Or the tet behind the face's plane but for vertices of the face.
+        let behind = || {
+            t.iter().all(|&x| {
+                h.contains(&x) || self.rec.l.orient(h[0], h[1], h[2], x) == Orientation::Negative
+            })
+        };
         !outside
+            && !behind()
             && FACE_VERTICES[..3]
                 .iter()
                 .any(|fv| faces_intersect(&fv.map(|i| tp[i]), fv.map(|i| t[i]), &hp, h))
