@@ -358,7 +358,8 @@ fn homer_vertex_between_two_tets_jumps_to_a_better_basin() {
 /// of the tet with the smallest angle: as far as the ball's worst Q_K allows, 0.568°
 /// (a random search over its ball finds no more, 0.5686°); with the 2 % margin over
 /// the face's own bound that a ball at the surface's limit may use, 0.88° (0.75° on
-/// today's mesh).
+/// later meshes). The margin stops at the mesh's worst `Q_K` now (it raised anchor's
+/// worst above Gmsh HXT's): here worst 55.83, 0.64°.
 #[test]
 fn part1_smallest_dihedral_angle_is_widened() {
     let Some(s) = corpus("netgen/part1.stl") else {
@@ -373,8 +374,8 @@ fn part1_smallest_dihedral_angle_is_widened() {
         .fold(f64::INFINITY, f64::min);
     // Gmsh HXT reaches 0.578°; with the ball's worst kept, 0.568° was the most here.
     // (0.88° until the front's cavities took in bad tets, which changed the mesh
-    // around that face: 0.75° since.)
-    assert!(smallest > 0.7, "smallest dihedral angle {smallest}°");
+    // around that face: 0.75°; 0.64° since the margin stops at the mesh's worst.)
+    assert!(smallest > 0.6, "smallest dihedral angle {smallest}°");
     // The worst tet sits on the face that sets Q_t: the widening may use 2 % of it.
     assert_worst_within("part1", &s, &r, WIDENING_MARGIN);
 }
