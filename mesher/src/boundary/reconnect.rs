@@ -305,6 +305,13 @@ impl Search<'_> {
         Some(closed)
     }
 
+    /// Whether every vertex of `xs` not on face `g` lies strictly behind `g`'s plane.
+    fn behind(&self, g: [u32; 3], xs: &[u32]) -> bool {
+        xs.iter().all(|&x| {
+            g.contains(&x) || self.rec.l.orient(g[0], g[1], g[2], x) == Orientation::Negative
+        })
+    }
+
     /// Whether face `h` meets tet `t` (points `tp`, bounding box `bb`) anywhere but
     /// where they share vertices.
     fn meets(&self, t: [u32; 4], tp: &[Point; 4], bb: (Point, Point), h: [u32; 3]) -> bool {
@@ -313,22 +320,14 @@ impl Search<'_> {
         if hlo.cmpgt(bb.1).any() || hhi.cmplt(bb.0).any() {
             return false;
         }
-        // Outside one of the tet's planes but for vertices of that face: it can only
-        // touch the tet where they share vertices.
-        let outside = FACE_VERTICES.iter().any(|fv| {
-            let g = fv.map(|i| t[i]);
-            h.iter().all(|&x| {
-                g.contains(&x) || self.rec.l.orient(g[0], g[1], g[2], x) == Orientation::Negative
-            })
-        });
-        // Or the tet behind the face's plane but for vertices of the face.
-        let behind = || {
-            t.iter().all(|&x| {
-                h.contains(&x) || self.rec.l.orient(h[0], h[1], h[2], x) == Orientation::Negative
-            })
-        };
-        !outside
-            && !behind()
+        // A separating plane: `h` outside one of the tet's face planes, or the tet
+        // behind `h`'s plane (but for the vertices on it): they can only touch where
+        // they share vertices.
+        let separated = FACE_VERTICES
+            .iter()
+            .any(|fv| self.behind(fv.map(|i| t[i]), &h))
+            || self.behind(h, &t);
+        !separated
             && FACE_VERTICES[..3]
                 .iter()
                 .any(|fv| faces_intersect(&fv.map(|i| tp[i]), fv.map(|i| t[i]), &hp, h))
