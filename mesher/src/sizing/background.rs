@@ -335,7 +335,19 @@ impl Background {
             t = u;
             came = (f & 3) as usize;
         }
-        let l = barycentric(&self.mesh.tet_points(crate::tetmesh::TetId(t)), p);
+        let q = self.mesh.tet_points(crate::tetmesh::TetId(t));
+        // At a vertex of its tet (every surface vertex, looked up when the front starts,
+        // and the harness's measures at output vertices): its own size. The inexact
+        // coordinates would be noise in a flat tet of T(S,F) (four nearly coplanar
+        // surface vertices): on a recovered torus 25 of 288 surface vertices got a size
+        // up to 4 % off.
+        if let Some(k) = q.iter().position(|&x| x == p) {
+            *hint = t;
+            let mut l = [0.0; 4];
+            l[k] = 1.0;
+            return (t, l, visited);
+        }
+        let l = barycentric(&q, p);
         // Stopped outside its last tet: at the hull of a non-convex background (the
         // walk cannot cross a hole), or at its bound. The grid finds the tet, if any.
         if l.iter().any(|&x| x < -OUTSIDE) {
@@ -535,6 +547,21 @@ mod tests {
             "{} steps per query",
             total as f64 / n as f64
         );
+    }
+
+    /// Regression: a walk that ends at a vertex of a flat tet of T(S,F) interpolated
+    /// noise (the inexact barycentric coordinates of a nearly zero volume): on this
+    /// torus 25 of 288 surface vertices got a size up to 4 % off their own.
+    #[test]
+    fn a_surface_vertex_gets_its_own_size() {
+        let s = torus(24, 12, 2.0, 0.6);
+        let (bm, _) = boundary_mesh(&s, &BoundaryOptions::default()).unwrap();
+        let bg = Background::from_boundary(&bm, &s).unwrap();
+        let mut hint = 0u32;
+        for v in &bm.surface_vertex {
+            let h = bg.size(bg.mesh.point(*v), &mut hint);
+            assert_eq!(h, bg.h[v.index()], "vertex {}", v.0);
+        }
     }
 
     /// Regression: a user background (`--size-map`) holds the domain's tets only, so it
