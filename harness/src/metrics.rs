@@ -7,18 +7,23 @@
 //!   and the size `h(P) = (shortest + longest edge at P) / 2` at every input vertex
 //!   (NOTES.md §3).
 //! - Output: [`QualitySummary`] against `Q_t`; normalised edge lengths with the size at
-//!   each output vertex taken from the nearest input vertex (an approximation of the
-//!   paper's background-mesh interpolation, documented in reports/METHODOLOGY.md);
+//!   each output vertex interpolated in the paper's control space (§5.3.1: the sizes
+//!   of the input vertices on our boundary mesh T(S,F), `mesher::sizing::Background`),
+//!   the size of the nearest input vertex where T(S,F) cannot be built (a dirty
+//!   surface); the share of interior edges in `[0.6, 1.67]` (`quality::edge_band`);
 //!   validity (inverted tets, faces in more than two tets, input triangles kept exactly,
 //!   volume ratio).
 //! - Orientation: when most tets have negative signed volume (fTetWild writes them so),
 //!   every tet is flipped before measuring, and the record says so.
 
 use crate::records::Validity;
-use mesher::quality::{self, EdgeLengthStats, QualitySummary};
+use mesher::boundary::{boundary_mesh, BoundaryOptions};
+use mesher::quality::{self, EdgeBand, EdgeLengthStats, QualitySummary};
+use mesher::sizing::{Background, SizeField};
 use mesher::surface::report::CheckReport;
 use mesher::{Point, Surface, VolumeMesh};
 use std::collections::HashMap;
+use std::sync::Arc;
 
 /// What the metrics need from the input surface, computed once per model.
 #[derive(Clone, Debug)]
@@ -36,6 +41,9 @@ pub struct InputMeasures {
     pub enclosed_volume: Option<f64>,
     /// Size `h(P)` per input vertex.
     pub sizes: Vec<f64>,
+    /// The control space: `sizes` on our boundary mesh T(S,F), interpolated inside
+    /// (None when the surface is not clean and closed, or its boundary mesh fails).
+    pub background: Option<Arc<Background>>,
 }
 
 /// Everything measured on one output mesh.
@@ -49,6 +57,8 @@ pub struct OutputMeasures {
     pub quality: QualitySummary,
     /// Normalised edge lengths against the input-derived sizes.
     pub edge_lengths: EdgeLengthStats,
+    /// The interior edges (off the output's boundary) in the band `[0.6, 1.67]`.
+    pub edge_band: EdgeBand,
     /// Validity checks.
     pub validity: Validity,
     /// True when every tet was flipped because most were negatively oriented.
@@ -83,6 +93,30 @@ pub fn measure_input(surface: &Surface) -> InputMeasures {
             .map(|r| r.hard_faces as f64 / t.len() as f64),
         enclosed_volume: enclosed_volume(&report),
         sizes: vertex_sizes(surface),
+        background: report.is_clean().then(|| control_space(surface)).flatten(),
+    }
+}
+
+/// The paper's control space on our boundary mesh T(S,F) of `surface` (checked clean
+/// by the caller): what `mesher mesh` interpolates its sizes in.
+fn control_space(surface: &Surface) -> Option<Arc<Background>> {
+    let options = BoundaryOptions {
+        check_input: false,
+        ..BoundaryOptions::default()
+    };
+    let (bm, _) = boundary_mesh(surface, &options).ok()?;
+    Background::from_boundary(&bm, surface).ok().map(Arc::new)
+}
+
+/// The size at each of `points`: interpolated in the control space when there is one,
+/// else the size of the nearest input vertex.
+pub fn output_sizes(input: &InputMeasures, surface: &Surface, points: &[Point]) -> Vec<f64> {
+    match &input.background {
+        Some(bg) => {
+            let mut hint = 0u32;
+            points.iter().map(|p| bg.size(*p, &mut hint)).collect()
+        }
+        None => nearest_sizes(surface, &input.sizes, points),
     }
 }
 
@@ -147,9 +181,19 @@ pub fn measure_output(
     }
     let orientation_flipped = normalise_orientation(&mut mesh);
     let quality = quality::summarize(&mesh, Some(input.q_t));
-    let sizes = nearest_sizes(surface, &input.sizes, &mesh.vertices);
+    let sizes = output_sizes(input, surface, &mesh.vertices);
     let edge_lengths = quality::mesh_edge_length_stats(&mesh, &sizes);
     let faces = face_counts(&mesh.tets);
+    let boundary: Vec<[u32; 3]> = faces
+        .iter()
+        .filter(|(_, &n)| n == 1)
+        .map(|(f, _)| *f)
+        .collect();
+    let edge_band = quality::edge_band(
+        &mesh.vertices,
+        &quality::edges_off_surface(&mesh.tets, &boundary),
+        &sizes,
+    );
     let non_manifold_faces = faces.values().filter(|&&c| c > 2).count();
     let boundary_kept = check_boundary.then(|| boundary_kept(surface, &mesh, &faces));
     let volume: f64 = (0..mesh.tets.len())
@@ -171,6 +215,7 @@ pub fn measure_output(
         tets: mesh.tets.len(),
         quality,
         edge_lengths,
+        edge_band,
         validity,
         orientation_flipped,
     })

@@ -1,7 +1,7 @@
 //! One record per (model, mesher) run: what the harness measured, serialised as one JSON
 //! line (`results.jsonl`) and one CSV row (`results.csv`). Reports read these only.
 
-use mesher::quality::{EdgeLengthStats, QualitySummary};
+use mesher::quality::{EdgeBand, EdgeLengthStats, QualitySummary};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -121,6 +121,10 @@ pub struct Record {
     pub quality: Option<QualitySummary>,
     /// Normalised edge lengths of the output against the input-derived size field.
     pub edge_lengths: Option<EdgeLengthStats>,
+    /// The output's interior edges (off its boundary) with normalised length in
+    /// `[0.6, 1.67]` (issue 5's band), same size field.
+    #[serde(default)]
+    pub edge_band: Option<EdgeBand>,
     /// Validity checks of the output.
     pub validity: Option<Validity>,
     /// Front iterations (ours only).
@@ -212,6 +216,7 @@ pub const CSV_COLUMNS: &[&str] = &[
     "edge_length_mean_quality",
     "edge_length_min",
     "edge_length_max",
+    "edges_in_band_percent",
     "inverted",
     "non_manifold_faces",
     "boundary_kept",
@@ -285,6 +290,7 @@ impl Record {
             opt(e.map(|e| e.mean_quality)),
             opt(e.map(|e| e.min)),
             opt(e.map(|e| e.max)),
+            opt(self.edge_band.as_ref().map(|b| b.in_band_percent)),
             opt(v.map(|v| v.inverted)),
             opt(v.map(|v| v.non_manifold_faces)),
             opt(v.and_then(|v| v.boundary_kept)),

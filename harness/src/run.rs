@@ -381,6 +381,7 @@ fn unmeasured_input() -> InputMeasures {
         hard_domain_fraction: None,
         enclosed_volume: None,
         sizes: Vec::new(),
+        background: None,
     }
 }
 
@@ -498,6 +499,7 @@ fn measure(
             rec.tets = Some(m.tets);
             rec.quality = Some(m.quality);
             rec.edge_lengths = Some(m.edge_lengths);
+            rec.edge_band = Some(m.edge_band);
             rec.validity = Some(m.validity);
             rec.orientation_flipped = Some(m.orientation_flipped);
             finish(rec, Status::Ok, None)
@@ -568,6 +570,7 @@ fn blank_record(ctx: &Context_, model: &Model, info: &crate::runners::PeerInfo) 
         peak_rss_bytes: None,
         quality: None,
         edge_lengths: None,
+        edge_band: None,
         validity: None,
         iterations: None,
         git_revision: ctx.git_revision.clone(),

@@ -9,8 +9,6 @@ use crate::delaunay::Constraints;
 use crate::front::{advance, FieldMesh, FrontError, FrontParams, FrontReport, Iteration};
 use crate::limit::{Deadline, TimeLimitAction};
 use crate::optimize::{optimize, Domain, OptimizeOptions, OptimizeReport};
-use crate::quality::length::normalized_length;
-use crate::quality::summary::{unique_tet_edges, unique_triangle_edges};
 use crate::sizing::{Background, SizeField, SizingError};
 use crate::surface::Surface;
 use crate::tetmesh::{TetMesh, VertexId, FACE_VERTICES};
@@ -285,21 +283,7 @@ fn field_mesh(
     }
 }
 
-/// Normalised edge lengths of the interior edges (not on the surface) of a meshed
-/// domain, end-point form.
-#[derive(Clone, Debug, Default, Serialize)]
-pub struct EdgeBand {
-    /// Interior edges.
-    pub edges: usize,
-    /// Percentage with `0.6 <= l <= 1.67`.
-    pub in_band_percent: f64,
-    /// Percentage below the band (too short).
-    pub below_percent: f64,
-    /// Percentage above the band (too long).
-    pub above_percent: f64,
-    /// Mean normalised length.
-    pub mean: f64,
-}
+pub use crate::quality::band::EdgeBand;
 
 impl Meshed {
     /// Finite tets with a non-zero region, in slot order.
@@ -330,46 +314,5 @@ impl Meshed {
     pub fn edge_band(&self) -> EdgeBand {
         let (vm, sizes) = self.volume_and_sizes();
         EdgeBand::of(&vm, &sizes)
-    }
-}
-
-impl EdgeBand {
-    /// The interior edges of `vm` (not on its triangles) with `sizes` at its vertices.
-    pub fn of(vm: &VolumeMesh, sizes: &[f64]) -> EdgeBand {
-        let surf = unique_triangle_edges(&vm.triangles);
-        let mut edges = 0usize;
-        let (mut inside, mut below, mut sum) = (0usize, 0usize, 0.0);
-        for e in unique_tet_edges(&vm.tets) {
-            if surf.binary_search(&e).is_ok() {
-                continue;
-            }
-            let (a, b) = (e[0] as usize, e[1] as usize);
-            let l = normalized_length(vm.vertices[a].distance(vm.vertices[b]), sizes[a], sizes[b]);
-            edges += 1;
-            sum += l;
-            if (0.6..=1.67).contains(&l) {
-                inside += 1;
-            } else if l < 0.6 {
-                below += 1;
-            }
-        }
-        let pct = |k: usize| {
-            if edges == 0 {
-                f64::NAN
-            } else {
-                100.0 * k as f64 / edges as f64
-            }
-        };
-        EdgeBand {
-            edges,
-            in_band_percent: pct(inside),
-            below_percent: pct(below),
-            above_percent: pct(edges - inside - below),
-            mean: if edges == 0 {
-                f64::NAN
-            } else {
-                sum / edges as f64
-            },
-        }
     }
 }

@@ -278,7 +278,7 @@ fn model_row(run: &RunData, m: usize, k: usize) -> Vec<String> {
     let r = match run.get(m, k) {
         None => {
             row.push("not run".into());
-            row.resize(12, "–".to_string());
+            row.resize(13, "–".to_string());
             return row;
         }
         Some(r) => r,
@@ -294,6 +294,9 @@ fn model_row(run: &RunData, m: usize, k: usize) -> Vec<String> {
         opt(q.map(|q| q.worst_q_k), fmt_q),
         opt(q.map(|q| q.median_q_k), fmt_q),
         opt(q.map(|q| q.well_shaped_percent), |v| format!("{v:.2}")),
+        opt(r.edge_band.as_ref().map(|b| b.in_band_percent), |v| {
+            format!("{v:.1}")
+        }),
         opt(q.map(|q| q.min_dihedral), |v| format!("{v:.1}")),
     ]);
     let msg = r.message.as_deref().unwrap_or("");
@@ -314,6 +317,7 @@ pub fn model_table(run: &RunData, m: usize) -> Table {
         "worst Q_K",
         "median Q_K",
         "% Q_K<3",
+        "% edges in band",
         "min dihedral °",
         "message",
     ];

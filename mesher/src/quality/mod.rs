@@ -11,12 +11,14 @@
 //! - [`room`]: the same with each face's tet kept inside the domain (thin parts);
 //! - [`summary`]: mesh-level statistics (Table 1 columns, `Q_K` and edge-length
 //!   histograms), streaming through [`SummaryBuilder`];
+//! - [`band`]: the share of interior edges with normalised length in `[0.6, 1.67]`;
 //! - [`histogram`]: the paper's `Q_K` and edge-length bins (§8, Figs. 13-17).
 //!
 //! Conventions: `Q_K` is in `[1, inf)`, bigger is worse, 1 for the regular tet, infinite
 //! for a flat or non-finite tet; inversion is reported by the signed volume, never by
 //! `Q_K`. No function panics on degenerate geometry.
 
+pub mod band;
 pub mod histogram;
 pub mod length;
 pub mod room;
@@ -24,6 +26,7 @@ pub mod summary;
 pub mod target;
 pub mod tet;
 
+pub use band::{edge_band, edges_off_surface, EdgeBand, BAND_HIGH, BAND_LOW};
 pub use histogram::{Histogram, LENGTH_BIN_EDGES, QUALITY_BIN_EDGES};
 pub use length::{
     edge_quality, normalized_length, normalized_length_piecewise, normalized_length_points,
