@@ -176,34 +176,33 @@ fn a_thin_slab_has_less_room_than_its_faces_alone() {
 }
 
 /// The harness measures our output's edges in the size field `mesher mesh` itself
-/// follows (the control space on T(S,F)): before the optimisation, whose moves leave
-/// the mesher the sizes of the old positions, the band it reports is the mesher's own.
+/// follows (the control space on T(S,F)): the band it reports is the mesher's own,
+/// before and after the optimisation (which gives the vertices it moves their new size).
 #[test]
 fn band_of_our_mesh_is_the_meshers_own() {
     let s = mesher::surface::generate::torus(24, 12, 2.0, 0.6);
-    let params = mesher::mesh::Params {
-        optimize: false,
-        ..mesher::mesh::Params::default()
-    };
-    let (meshed, _) = mesher::mesh::mesh(&s, &params).unwrap();
-    let own = meshed.edge_band();
     let input = measure_input(&s);
     assert!(input.background.is_some());
-    let out = measure_output(&input, &s, meshed.to_volume_mesh(), true).unwrap();
-    assert_eq!(out.validity.boundary_kept, Some(true));
-    assert_eq!(out.edge_band.edges, own.edges);
-    assert!(
-        (out.edge_band.in_band_percent - own.in_band_percent).abs() < 1e-9,
-        "{} {}",
-        out.edge_band.in_band_percent,
-        own.in_band_percent
-    );
-    assert!((out.edge_band.mean - own.mean).abs() < 1e-9);
-    // The nearest-vertex fallback is for surfaces without a boundary mesh only.
-    let near = mesher::quality::edge_band(
-        &meshed.to_volume_mesh().vertices,
-        &[],
-        &nearest_sizes(&s, &input.sizes, &[]),
-    );
-    assert_eq!(near.edges, 0);
+    for optimize in [false, true] {
+        let params = mesher::mesh::Params {
+            optimize,
+            ..mesher::mesh::Params::default()
+        };
+        let (meshed, _) = mesher::mesh::mesh(&s, &params).unwrap();
+        let own = meshed.edge_band();
+        let out = measure_output(&input, &s, meshed.to_volume_mesh(), true).unwrap();
+        assert_eq!(out.validity.boundary_kept, Some(true));
+        assert_eq!(out.edge_band.edges, own.edges);
+        let (a, b) = (out.edge_band.in_band_percent, own.in_band_percent);
+        assert!((a - b).abs() < 1e-9, "optimize {optimize}: {a} {b}");
+        assert!((out.edge_band.mean - own.mean).abs() < 1e-9);
+    }
+    // Without T(S,F), the nearest input vertex's size.
+    let p = s.vertices[3] * 0.999;
+    let no_bg = harness::metrics::InputMeasures {
+        background: None,
+        ..input.clone()
+    };
+    let h = harness::metrics::output_sizes(&no_bg, &s, &[p]);
+    assert_eq!(h, nearest_sizes(&s, &input.sizes, &[p]));
 }

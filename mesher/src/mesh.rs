@@ -205,8 +205,8 @@ pub fn mesh_with_progress(
     Ok((meshed, report))
 }
 
-/// Optimises the meshed domain in place (boundary vertices and faces fixed); points it
-/// inserts get their size from the field.
+/// Optimises the meshed domain in place (boundary vertices and faces fixed); the free
+/// vertices, moved or inserted, get their size from the field again.
 fn optimize_meshed(
     meshed: &mut Meshed,
     corners: &[VertexId],
@@ -231,10 +231,16 @@ fn optimize_meshed(
     let report = optimize(&mut domain, &params.optimize_options);
     meshed.mesh = domain.mesh;
     meshed.region = domain.region;
+    // Every free vertex gets the size at where it is now (the smoothing moved many),
+    // so that the reported edge lengths are those of the output, as the harness
+    // measures them.
     let mut hint = 0u32;
     let points = meshed.mesh.points();
-    for p in &points[meshed.h.len().min(points.len())..] {
-        meshed.h.push(field.size(*p, &mut hint));
+    meshed.h.resize(points.len(), f64::NAN);
+    for (v, p) in points.iter().enumerate() {
+        if !domain.fixed.get(v).copied().unwrap_or(false) {
+            meshed.h[v] = field.size(*p, &mut hint);
+        }
     }
     report
 }
