@@ -7,6 +7,7 @@
 //! the volume was filled.
 
 use crate::geom::Point;
+use crate::quality::histogram::nonfinite;
 use crate::quality::length::normalized_length;
 use crate::quality::summary::{unique_tet_edges, unique_triangle_edges};
 use crate::volume::VolumeMesh;
@@ -23,12 +24,16 @@ pub struct EdgeBand {
     /// Interior edges.
     pub edges: usize,
     /// Percentage with `0.6 <= l <= 1.67`.
+    #[serde(with = "nonfinite")]
     pub in_band_percent: f64,
     /// Percentage below the band (too short).
+    #[serde(with = "nonfinite")]
     pub below_percent: f64,
     /// Percentage above the band (too long).
+    #[serde(with = "nonfinite")]
     pub above_percent: f64,
     /// Mean normalised length.
+    #[serde(with = "nonfinite")]
     pub mean: f64,
 }
 
@@ -126,5 +131,9 @@ mod tests {
         let empty = edge_band(&v, &[], &sizes);
         assert_eq!(empty.edges, 0);
         assert!(empty.in_band_percent.is_nan());
+        // A record of a mesh without interior edges reads back (JSON has no NaN).
+        let back: EdgeBand = serde_json::from_str(&serde_json::to_string(&empty).unwrap()).unwrap();
+        assert_eq!(back.edges, 0);
+        assert!(back.in_band_percent.is_nan() && back.mean.is_nan());
     }
 }
