@@ -663,7 +663,9 @@ impl Ops {
 
     /// [`Ops::insert_in`] over the tet `t` grown by `layers` layers of face neighbours in
     /// region `r` (never across a constrained face), with the compass search; refused
-    /// when the cavity would hold a vertex or a constrained face inside.
+    /// when the cavity would hold a constrained face or a vertex inside (with
+    /// `free_inside`: a fixed vertex), or when the new cone does not lower the cavity's
+    /// worst by the fraction `min_gain`.
     fn insert_grown(
         &mut self,
         t: u32,
