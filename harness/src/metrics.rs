@@ -182,7 +182,9 @@ pub fn measure_output(
     let orientation_flipped = normalise_orientation(&mut mesh);
     let quality = quality::summarize(&mesh, Some(input.q_t));
     let sizes = output_sizes(input, surface, &mesh.vertices);
-    let edge_lengths = quality::mesh_edge_length_stats(&mesh, &sizes);
+    // The unique edges once: for the lengths, then without the boundary's for the band.
+    let edges = quality::unique_tet_edges(&mesh.tets);
+    let edge_lengths = quality::edge_length_stats(&mesh.vertices, &edges, &sizes);
     let faces = face_counts(&mesh.tets);
     let boundary: Vec<[u32; 3]> = faces
         .iter()
@@ -191,7 +193,7 @@ pub fn measure_output(
         .collect();
     let edge_band = quality::edge_band(
         &mesh.vertices,
-        &quality::edges_off_surface(&mesh.tets, &boundary),
+        &quality::edges_off_surface(edges, &boundary),
         &sizes,
     );
     let non_manifold_faces = faces.values().filter(|&&c| c > 2).count();

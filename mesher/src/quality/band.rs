@@ -77,16 +77,16 @@ impl EdgeBand {
     pub fn of(vm: &VolumeMesh, sizes: &[f64]) -> EdgeBand {
         edge_band(
             &vm.vertices,
-            &edges_off_surface(&vm.tets, &vm.triangles),
+            &edges_off_surface(unique_tet_edges(&vm.tets), &vm.triangles),
             sizes,
         )
     }
 }
 
-/// The unique edges of `tets` (sorted, `i < j`) that are not an edge of `surface`.
-pub fn edges_off_surface(tets: &[[u32; 4]], surface: &[[u32; 3]]) -> Vec<[u32; 2]> {
+/// The edges of `edges` (sorted unique pairs, as [`unique_tet_edges`] gives them) that
+/// are not an edge of `surface`.
+pub fn edges_off_surface(mut edges: Vec<[u32; 2]>, surface: &[[u32; 3]]) -> Vec<[u32; 2]> {
     let on = unique_triangle_edges(surface);
-    let mut edges = unique_tet_edges(tets);
     edges.retain(|e| on.binary_search(e).is_err());
     edges
 }
@@ -108,7 +108,10 @@ mod tests {
             [1, 4, 2],
             [0, 2, 4],
         ];
-        assert_eq!(edges_off_surface(&tets, &surface), vec![[0, 1]]);
+        assert_eq!(
+            edges_off_surface(unique_tet_edges(&tets), &surface),
+            vec![[0, 1]]
+        );
     }
 
     #[test]
