@@ -553,18 +553,15 @@ impl Local {
 
     /// For each triangle (mesh vertex ids), the tet faces that are that triangle: per tet
     /// slot, the triangle index on each of its four faces (`u32::MAX` for none). One
-    /// sweep over the tets with a hash of the triangles.
+    /// sweep over the tets; the triangles are listed by their smallest vertex (a few
+    /// per vertex), which costs a third of a hash lookup per tet face.
     pub fn triangle_faces(&self, tris: &[[u32; 3]]) -> Vec<[u32; 4]> {
-        let mut index: HashMap<u128, u32> = HashMap::default();
-        index.reserve(tris.len());
-        for (k, t) in tris.iter().enumerate() {
-            index.insert(face_key(*t).0, k as u32);
-        }
+        let by_min = TrianglesByMin::new(tris, self.mesh.num_vertices());
         let mut out = vec![[u32::MAX; 4]; self.mesh.num_slots()];
         for t in self.mesh.finite_tets() {
             let v = self.tet(t.0);
             for (i, f) in FACE_VERTICES.iter().enumerate() {
-                if let Some(&k) = index.get(&face_key(f.map(|j| v[j])).0) {
+                if let Some(k) = by_min.find(f.map(|j| v[j])) {
                     out[t.index()][i] = k;
                 }
             }
@@ -955,4 +952,59 @@ impl Marks {
     pub fn contains(&self, i: u32) -> bool {
         self.mark.get(i as usize) == Some(&self.epoch)
     }
+}
+
+/// Triangles grouped by their smallest vertex id (compressed rows), each entry the
+/// two other ids in increasing order and the triangle's index: the lookup of
+/// [`Local::triangle_faces`].
+struct TrianglesByMin {
+    /// Row `v` is `entries[start[v]..start[v + 1]]`.
+    start: Vec<u32>,
+    entries: Vec<(u32, u32, u32)>,
+}
+
+impl TrianglesByMin {
+    fn new(tris: &[[u32; 3]], num_vertices: usize) -> Self {
+        let n = tris
+            .iter()
+            .flatten()
+            .map(|&v| v as usize + 1)
+            .max()
+            .unwrap_or(0)
+            .max(num_vertices);
+        let mut start = vec![0u32; n + 1];
+        for t in tris {
+            start[sorted3(*t)[0] as usize + 1] += 1;
+        }
+        for v in 0..n {
+            start[v + 1] += start[v];
+        }
+        let mut fill = start.clone();
+        let mut entries = vec![(0, 0, 0); tris.len()];
+        for (k, t) in tris.iter().enumerate() {
+            let [p, q, r] = sorted3(*t);
+            let e = &mut fill[p as usize];
+            entries[*e as usize] = (q, r, k as u32);
+            *e += 1;
+        }
+        TrianglesByMin { start, entries }
+    }
+
+    /// The index of triangle `f` (any order), the last one listed if it is there twice.
+    fn find(&self, f: [u32; 3]) -> Option<u32> {
+        let [p, q, r] = sorted3(f);
+        let row = self.start.get(p as usize..p as usize + 2)?;
+        self.entries[row[0] as usize..row[1] as usize]
+            .iter()
+            .rev()
+            .find(|e| e.0 == q && e.1 == r)
+            .map(|e| e.2)
+    }
+}
+
+/// The three ids in increasing order.
+fn sorted3([a, b, c]: [u32; 3]) -> [u32; 3] {
+    let (a, b) = (a.min(b), a.max(b));
+    let (b, c) = (b.min(c), b.max(c));
+    [a.min(b), a.max(b), c]
 }

@@ -210,14 +210,21 @@ impl Search<'_> {
         };
         let id = open[k] as usize;
         let f = self.faces[id];
+        // Every apex of the face counts as tried (the budget), but only the cheap part
+        // of the test runs for all of them: the tet's faces against the open ones.
+        // The dear part (no vertex inside, no open face met) runs when an apex's turn
+        // comes, so the apexes after the one that completes the fill are never tested;
+        // the search and its outcome are those of testing them all first.
+        let n = self.apexes[id].len();
+        if self.budget < n {
+            self.budget = 0;
+            return false;
+        }
+        self.budget -= n;
         let mut apexes: Vec<(usize, f64, u32)> = Vec::new();
-        for j in 0..self.apexes[id].len() {
+        for j in 0..n {
             let v = self.apexes[id][j];
-            if self.budget == 0 {
-                return false;
-            }
-            self.budget -= 1;
-            if let Some(closed) = self.fits(&open, k, v) {
+            if let Some(closed) = self.closes(&open, k, v) {
                 apexes.push((
                     closed,
                     flips::tet_shape([f[0], f[1], f[2], v].map(|x| self.p(x))),
@@ -228,8 +235,13 @@ impl Search<'_> {
         // Apexes that close the most faces first, then the best shaped.
         apexes.sort_by(|a, b| b.0.cmp(&a.0).then(b.1.total_cmp(&a.1)));
         for (_, _, v) in apexes {
+            if !self.clear(&open, k, v) {
+                continue;
+            }
             let t = [f[0], f[1], f[2], v];
-            let mut next = open.clone();
+            // Room for the three faces a tet may open: no reallocation per apex.
+            let mut next = Vec::with_capacity(open.len() + 3);
+            next.extend_from_slice(&open);
             next.swap_remove(k);
             for fv in &FACE_VERTICES[..3] {
                 let g = fv.map(|j| t[j]);
@@ -258,9 +270,36 @@ impl Search<'_> {
         false
     }
 
-    /// Whether the tet on open face `k` with apex `v` lies in the unfilled part; if so,
-    /// how many open faces it closes.
-    fn fits(&self, open: &[u32], k: usize, v: u32) -> Option<usize> {
+    /// The tet on open face `k` with apex `v` against the open faces: how many it
+    /// closes (a new face that is an open face, from the same side), or `None` when it
+    /// has an open face the other way round. With [`Search::clear`], whether the tet
+    /// lies in the unfilled part.
+    fn closes(&self, open: &[u32], k: usize, v: u32) -> Option<usize> {
+        let f = self.faces[open[k] as usize];
+        let t = [f[0], f[1], f[2], v];
+        let mut closed = 0;
+        for (j, &hid) in open.iter().enumerate() {
+            if j == k {
+                continue;
+            }
+            let h = self.faces[hid as usize];
+            if let Some(fv) = FACE_VERTICES[..3]
+                .iter()
+                .find(|fv| same_set(h, fv.map(|i| t[i])))
+            {
+                if !same_oriented(h, fv.map(|i| t[i])) {
+                    return None;
+                }
+                closed += 1;
+            }
+        }
+        Some(closed)
+    }
+
+    /// The rest of the test of the tet on open face `k` with apex `v` (after
+    /// [`Search::closes`]): no polyhedron vertex strictly inside it, and no open face
+    /// it does not close meets it.
+    fn clear(&self, open: &[u32], k: usize, v: u32) -> bool {
         let id = open[k] as usize;
         let f = self.faces[id];
         let t = [f[0], f[1], f[2], v];
@@ -278,31 +317,17 @@ impl Search<'_> {
                     .iter()
                     .all(|fv| self.positive(fv.map(|j| t[j]), w))
             {
-                return None;
+                return false;
             }
         }
-        let mut closed = 0;
-        for (j, &hid) in open.iter().enumerate() {
-            if j == k {
-                continue;
-            }
+        open.iter().enumerate().all(|(j, &hid)| {
             let h = self.faces[hid as usize];
-            if let Some(fv) = FACE_VERTICES[..3]
-                .iter()
-                .find(|fv| same_set(h, fv.map(|i| t[i])))
-            {
-                // A new face that is an open face closes it (from the same side).
-                if !same_oriented(h, fv.map(|i| t[i])) {
-                    return None;
-                }
-                closed += 1;
-                continue;
-            }
-            if self.meets(t, &tp, (lo, hi), h) {
-                return None;
-            }
-        }
-        Some(closed)
+            j == k
+                || FACE_VERTICES[..3]
+                    .iter()
+                    .any(|fv| same_set(h, fv.map(|i| t[i])))
+                || !self.meets(t, &tp, (lo, hi), h)
+        })
     }
 
     /// Whether every vertex of `xs` not on face `g` lies strictly behind `g`'s plane.

@@ -135,6 +135,8 @@ pub(crate) struct Recovery {
     pub(super) cone_verts: Marks,
     pub(super) scratch: Vec<u32>,
     star: Vec<u32>,
+    /// The tets of [`Recovery::met_below`] (only their number is returned).
+    met: Vec<u32>,
     /// Entities whose recovery failed (an edge is `[a, b, u32::MAX]`, a triangle its
     /// sorted vertices).
     pub(super) failed: HashMap<[u32; 3], Failure>,
@@ -154,6 +156,7 @@ impl Recovery {
             cone_verts: Marks::default(),
             scratch: Vec::new(),
             star: Vec::new(),
+            met: Vec::new(),
             failed: HashMap::default(),
         }
     }
@@ -343,7 +346,7 @@ impl Recovery {
                 }
                 let before = match met {
                     Some(m) => m,
-                    None => self.met_tets(a, b).map_or(usize::MAX, |m| m.len()),
+                    None => self.met_below(a, b, usize::MAX).unwrap_or(usize::MAX),
                 };
                 met = Some(before);
                 let mark = self.l.mark();
@@ -358,8 +361,8 @@ impl Recovery {
                 if self.has_edge(a, b) {
                     return Ok(());
                 }
-                match self.met_tets(a, b).map(|m| m.len()) {
-                    Some(after) if after < before => {
+                match self.met_below(a, b, before) {
+                    Some(after) => {
                         met = Some(after);
                         progressed = true;
                         break;
@@ -400,7 +403,7 @@ impl Recovery {
     fn deep_flips(&mut self, a: u32, b: u32, budget: usize) -> bool {
         let depth = self.flip_depth;
         for _ in 0..budget {
-            let Some(before) = self.met_tets(a, b).map(|m| m.len()) else {
+            let Some(before) = self.met_below(a, b, usize::MAX) else {
                 return false;
             };
             let mut progressed = false;
@@ -424,7 +427,7 @@ impl Recovery {
                 if self.has_edge(a, b) {
                     return true;
                 }
-                if self.met_tets(a, b).is_some_and(|m| m.len() < before) {
+                if self.met_below(a, b, before).is_some() {
                     progressed = true;
                     break;
                 }
@@ -469,7 +472,7 @@ impl Recovery {
         for (t, i) in faces {
             let mark = self.l.mark();
             if flip23(&mut self.l, &self.locks, t, i, &mut self.flips).is_ok() {
-                if self.met_tets(a, b).is_some_and(|m| m.len() < before) {
+                if self.met_below(a, b, before).is_some() {
                     return true;
                 }
                 self.l.undo(mark);
@@ -478,7 +481,7 @@ impl Recovery {
         for (x, y) in edges {
             let mark = self.l.mark();
             if self.remove(x, y, Choice::Best) {
-                if self.has_edge(a, b) || self.met_tets(a, b).is_some_and(|m| m.len() < before) {
+                if self.has_edge(a, b) || self.met_below(a, b, before).is_some() {
                     return true;
                 }
                 self.l.undo(mark);
@@ -495,6 +498,20 @@ impl Recovery {
         self.l
             .met_tets(a, b, MAX_MET, &mut out, &mut self.star)
             .then_some(out)
+    }
+
+    /// The number of tets the open segment `ab` meets ([`Recovery::met_tets`]) when it
+    /// is below `limit`, else `None`: the search stops as soon as it reaches `limit`
+    /// (most changes tried do not lower the number, and this is what tells).
+    fn met_below(&mut self, a: u32, b: u32, limit: usize) -> Option<usize> {
+        let max = limit.checked_sub(1)?.min(MAX_MET);
+        let mut out = std::mem::take(&mut self.met);
+        let n = self
+            .l
+            .met_tets(a, b, max, &mut out, &mut self.star)
+            .then_some(out.len());
+        self.met = out;
+        n
     }
 
     /// Removes edge `xy`; if that fails, first removes one edge from `x` or `y` to a

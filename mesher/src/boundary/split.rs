@@ -64,13 +64,19 @@ impl Refined {
     pub fn split_edge(&mut self, a: u32, b: u32, t: f64) -> bool {
         let v = &self.surface.vertices;
         let (pa, pb) = (v[a as usize], v[b as usize]);
-        // The apexes of the triangles on the edge.
-        let apexes: Vec<Point> = self
-            .surface
-            .triangles
+        // The triangles on the edge (one sweep), with their apexes.
+        let on_edge: Vec<usize> = (0..self.surface.triangles.len())
+            .filter(|&k| {
+                let t = &self.surface.triangles[k];
+                t.contains(&a) && t.contains(&b)
+            })
+            .collect();
+        let apexes: Vec<Point> = on_edge
             .iter()
-            .filter(|t| t.contains(&a) && t.contains(&b))
-            .filter_map(|t| t.iter().find(|&&x| x != a && x != b))
+            .filter_map(|&k| {
+                let t = &self.surface.triangles[k];
+                t.iter().find(|&&x| x != a && x != b)
+            })
             .map(|&x| v[x as usize])
             .collect();
         let keeps_fold = |m: Point| folds_alike(pa, pb, m, &apexes);
@@ -82,8 +88,7 @@ impl Refined {
         self.splits.push([mid, a, b]);
         self.exact.push(exact);
         self.removed.push(false);
-        let n = self.surface.triangles.len();
-        for k in 0..n {
+        for k in on_edge {
             let t = self.surface.triangles[k];
             // The edge in the triangle's own direction, (t[i], t[i+1]).
             let Some(i) = (0..3).find(|&i| {
