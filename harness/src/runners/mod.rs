@@ -192,6 +192,11 @@ pub struct RunArgs {
     /// input size; combine the shards with `harness merge`.
     #[arg(long, value_name = "K/N")]
     pub shard: Option<crate::shard::Shard>,
+    /// Run each (model, mesher) that finishes within 10 s up to N times in all and keep
+    /// the fastest run's time, CPU time and memory (noise on a shared machine only adds
+    /// time); the mesh measured is the last run's (every mesher here is deterministic).
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    pub repeat: usize,
 }
 
 /// `harness run`.

@@ -394,20 +394,41 @@ impl Local {
         // When the walk ends in a tet whose open cone holds `b`, that tet is the only
         // one at `a` that the segment meets; else (`b` on a face plane at `a`, or `ab`
         // an edge) the tets whose closed cone holds `b`, in the star's order.
-        let inside = self.cone_walk(a, b).filter(|&t| {
+        let walked = self.cone_walk(a, b);
+        let signs = walked.and_then(|t| self.cone_signs(t, a, b));
+        let inside = walked.filter(|&t| {
             !self.tet(t).contains(&b)
-                && self
-                    .cone_signs(t, a, b)
-                    .is_some_and(|(_, s)| s.iter().all(|&o| o == Orientation::Negative))
+                && signs.is_some_and(|(_, s)| s.iter().all(|&o| o == Orientation::Negative))
         });
+        let closed = |t: u32| {
+            self.cone_signs(t, a, b)
+                .is_some_and(|(_, s)| !s.contains(&Orientation::Positive))
+        };
         if let Some(t) = inside {
             out.push(t);
+        } else if let Some(t) =
+            walked.filter(|_| signs.is_some_and(|(_, s)| !s.contains(&Orientation::Positive)))
+        {
+            // The tets at `a` whose closed cone holds `b` are connected through their
+            // faces at `a` (around the face or edge at `a` that the ray towards `b`
+            // runs along): found from the walk's tet, then listed in the star's order.
+            let mut near = vec![t];
+            let mut k = 0;
+            while k < near.len() {
+                let (v, adj) = (self.tet(near[k]), self.adj(near[k]));
+                k += 1;
+                for i in 0..4 {
+                    let u = FaceRef::from_raw(adj[i]).tet().0;
+                    if v[i] != a && !near.contains(&u) && closed(u) {
+                        near.push(u);
+                    }
+                }
+            }
+            self.star(a, star);
+            out.extend(star.iter().copied().filter(|t| near.contains(t)));
         } else {
             self.star(a, star);
-            out.extend(star.iter().copied().filter(|&t| {
-                self.cone_signs(t, a, b)
-                    .is_some_and(|(_, s)| !s.contains(&Orientation::Positive))
-            }));
+            out.extend(star.iter().copied().filter(|&t| closed(t)));
         }
         let (mut seen, visit) = self.new_visit();
         for &t in out.iter() {
