@@ -37,7 +37,11 @@ cargo build --release -q -p harness -p mesher -p reference --bins || {
 H=target/release/harness
 out="reports/nightly/$date"
 started=$SECONDS
-$H run --corpus nightly --out "$out/run" "${resume[@]}" "${extra[@]}"
+# The fastest of 3 runs of each quick (model, mesher): the timing ratios of the
+# sub-second rows are otherwise mostly the machine's noise (an explicit --repeat wins).
+repeat=(--repeat 3)
+case " ${extra[*]} " in *" --repeat"*) repeat=() ;; esac
+$H run --corpus nightly "${repeat[@]}" --out "$out/run" "${resume[@]}" "${extra[@]}"
 $H history "$out/run" --history reports/history.csv --date "$date"
 $H report "$out/run" --out "$out" --history reports/history.csv >/dev/null
 # A PNG of the report (headless Chromium, when installed), to look at without a browser.
