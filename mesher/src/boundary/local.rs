@@ -867,6 +867,30 @@ enum Link {
 mod tests {
     use super::*;
 
+    #[test]
+    fn triangles_are_found_by_their_smallest_vertex_in_any_order() {
+        for t in [
+            [0, 1, 2],
+            [2, 0, 1],
+            [1, 2, 0],
+            [2, 1, 0],
+            [0, 2, 1],
+            [1, 0, 2],
+        ] {
+            assert_eq!(sorted3(t), [0, 1, 2]);
+        }
+        let tris = [[3, 1, 2], [1, 4, 3], [5, 3, 4], [2, 3, 1]];
+        let by_min = TrianglesByMin::new(&tris, 4);
+        assert_eq!(by_min.find([4, 3, 1]), Some(1));
+        assert_eq!(by_min.find([3, 4, 5]), Some(2));
+        // Listed twice (the same three vertices): the last one, as a hash map keeps.
+        assert_eq!(by_min.find([1, 2, 3]), Some(3));
+        assert_eq!(by_min.find([1, 2, 4]), None);
+        // Vertices beyond any listed triangle (or the mesh) are not there.
+        assert_eq!(by_min.find([7, 8, 9]), None);
+        assert_eq!(by_min.find([0, 1, 2]), None);
+    }
+
     fn two_tets() -> Local {
         // Tets (p, q, r, d) and (q, p, r, e) sharing face pqr, with de through it.
         let pts = vec![
