@@ -10,6 +10,7 @@
 
 use crate::geom::predicates::{orient3d, Orientation, StaticFilter};
 use crate::geom::Point;
+use crate::surface::sorted_ids;
 use crate::tetmesh::{FaceRef, TetId, TetMesh, VertexId, FACE_VERTICES};
 use crate::FastMap as HashMap;
 
@@ -406,29 +407,33 @@ impl Local {
         };
         if let Some(t) = inside {
             out.push(t);
-        } else if let Some(t) =
-            walked.filter(|_| signs.is_some_and(|(_, s)| !s.contains(&Orientation::Positive)))
-        {
+        } else {
             // The tets at `a` whose closed cone holds `b` are connected through their
             // faces at `a` (around the face or edge at `a` that the ray towards `b`
-            // runs along): found from the walk's tet, then listed in the star's order.
-            let mut near = vec![t];
-            let mut k = 0;
-            while k < near.len() {
-                let (v, adj) = (self.tet(near[k]), self.adj(near[k]));
-                k += 1;
-                for i in 0..4 {
-                    let u = FaceRef::from_raw(adj[i]).tet().0;
-                    if v[i] != a && !near.contains(&u) && closed(u) {
-                        near.push(u);
+            // runs along): found from the walk's tet when it is one of them, then
+            // listed in the star's order; else the whole star is tested.
+            let near = walked
+                .filter(|_| signs.is_some_and(|(_, s)| !s.contains(&Orientation::Positive)))
+                .map(|t| {
+                    let mut near = vec![t];
+                    let mut k = 0;
+                    while k < near.len() {
+                        let (v, adj) = (self.tet(near[k]), self.adj(near[k]));
+                        k += 1;
+                        for i in 0..4 {
+                            let u = FaceRef::from_raw(adj[i]).tet().0;
+                            if v[i] != a && !near.contains(&u) && closed(u) {
+                                near.push(u);
+                            }
+                        }
                     }
-                }
-            }
+                    near
+                });
             self.star(a, star);
-            out.extend(star.iter().copied().filter(|t| near.contains(t)));
-        } else {
-            self.star(a, star);
-            out.extend(star.iter().copied().filter(|&t| closed(t)));
+            out.extend(star.iter().copied().filter(|&t| match &near {
+                Some(near) => near.contains(&t),
+                None => closed(t),
+            }));
         }
         let (mut seen, visit) = self.new_visit();
         for &t in out.iter() {
@@ -877,7 +882,7 @@ mod tests {
             [0, 2, 1],
             [1, 0, 2],
         ] {
-            assert_eq!(sorted3(t), [0, 1, 2]);
+            assert_eq!(sorted_ids(t), [0, 1, 2]);
         }
         let tris = [[3, 1, 2], [1, 4, 3], [5, 3, 4], [2, 3, 1]];
         let by_min = TrianglesByMin::new(&tris, 4);
@@ -1019,7 +1024,7 @@ impl TrianglesByMin {
             .max(num_vertices);
         let mut start = vec![0u32; n + 1];
         for t in tris {
-            start[sorted3(*t)[0] as usize + 1] += 1;
+            start[sorted_ids(*t)[0] as usize + 1] += 1;
         }
         for v in 0..n {
             start[v + 1] += start[v];
@@ -1027,7 +1032,7 @@ impl TrianglesByMin {
         let mut fill = start.clone();
         let mut entries = vec![(0, 0, 0); tris.len()];
         for (k, t) in tris.iter().enumerate() {
-            let [p, q, r] = sorted3(*t);
+            let [p, q, r] = sorted_ids(*t);
             let e = &mut fill[p as usize];
             entries[*e as usize] = (q, r, k as u32);
             *e += 1;
@@ -1037,7 +1042,7 @@ impl TrianglesByMin {
 
     /// The index of triangle `f` (any order), the last one listed if it is there twice.
     fn find(&self, f: [u32; 3]) -> Option<u32> {
-        let [p, q, r] = sorted3(f);
+        let [p, q, r] = sorted_ids(f);
         let row = self.start.get(p as usize..p as usize + 2)?;
         self.entries[row[0] as usize..row[1] as usize]
             .iter()
@@ -1045,11 +1050,4 @@ impl TrianglesByMin {
             .find(|e| e.0 == q && e.1 == r)
             .map(|e| e.2)
     }
-}
-
-/// The three ids in increasing order.
-fn sorted3([a, b, c]: [u32; 3]) -> [u32; 3] {
-    let (a, b) = (a.min(b), a.max(b));
-    let (b, c) = (b.min(c), b.max(c));
-    [a.min(b), a.max(b), c]
 }

@@ -51,7 +51,7 @@ pub use flips::FlipCounts;
 
 use crate::delaunay::{box_mesh, sort, DelaunayError, Inserted, Kernel};
 use crate::geom::{Aabb, Point};
-use crate::surface::Surface;
+use crate::surface::{sorted_ids, Surface};
 use crate::tetmesh::{TetMesh, VertexId};
 use crate::volume::VolumeMesh;
 use crate::FastSet;
@@ -861,13 +861,13 @@ fn recover_all(
     // Kept faces the edges' flips took away are dropped, the others stay.
     for (k, f) in mesh_tris.iter().enumerate() {
         if !found[k] {
-            kept_faces.remove(&sorted(*f));
+            kept_faces.remove(&sorted_ids(*f));
         }
     }
     rec.locks.faces = kept_faces;
     for (k, f) in mesh_tris.iter().enumerate() {
         if found[k] {
-            rec.locks.faces.insert(sorted(*f));
+            rec.locks.faces.insert(sorted_ids(*f));
         } else {
             missing_faces += 1;
             if [(0, 1), (1, 2), (2, 0)]
@@ -892,7 +892,7 @@ fn recover_all(
             let f = surface.triangles[k as usize].map(m);
             match rec.face_once_per_change(f, options.flip_budget) {
                 Ok(()) => {
-                    rec.locks.faces.insert(sorted(f));
+                    rec.locks.faces.insert(sorted_ids(f));
                 }
                 Err(Stuck::Through(v)) if is_surface.get(v as usize) == Some(&true) => {
                     return Err(on_entity(surface, sv, v, &surface.triangles[k as usize]))
@@ -961,7 +961,7 @@ fn faces_now(
     }
     tris.iter()
         .map(|&f| {
-            (!rec.l.stamps.changed_since(&f, since) && kept.contains(&sorted(f)))
+            (!rec.l.stamps.changed_since(&f, since) && kept.contains(&sorted_ids(f)))
                 || rec.has_face(f[0], f[1], f[2])
         })
         .collect()
@@ -980,11 +980,6 @@ fn faces_found(l: &Local, tris: &[[u32; 3]]) -> Vec<bool> {
 
 fn lock_edge(rec: &mut Recovery, a: u32, b: u32) {
     rec.locks.edges.insert((a.min(b), a.max(b)));
-}
-
-fn sorted(mut f: [u32; 3]) -> [u32; 3] {
-    f.sort_unstable();
-    f
 }
 
 /// The error for a mesh vertex found exactly on an input entity.
@@ -1110,7 +1105,7 @@ fn finish(
     let mesh = rec.l.mesh;
     let mut constrained = HashMap::with_capacity(mesh_tris.len());
     for (t, &k) in mesh_tris.iter().zip(&work.parent) {
-        constrained.insert(sorted(*t), k);
+        constrained.insert(sorted_ids(*t), k);
     }
     let regions = domain::identify(&mesh, &marks)?;
     report.regions = regions.count;

@@ -44,6 +44,7 @@ const NEAR_FACE: f64 = 1e-6;
 const PERCEPTRON_STEPS: usize = 64;
 use crate::geom::predicates::{orient3d, Orientation};
 use crate::geom::Point;
+use crate::surface::sorted_ids;
 use crate::tetmesh::{FaceRef, FACE_VERTICES};
 use crate::FastSet;
 
@@ -182,7 +183,7 @@ impl Recovery {
         if star.is_empty() || star.iter().any(|&t| self.l.is_ghost(t)) {
             return false;
         }
-        let cut = [[u, m, c], [m, w, c], [u, m, d], [m, w, d]].map(sorted);
+        let cut = [[u, m, c], [m, w, c], [u, m, d], [m, w, d]].map(sorted_ids);
         let Some(sides) = self.sides(m, &star, &cut) else {
             return false;
         };
@@ -271,8 +272,8 @@ impl Recovery {
             self.locks.edges.remove(&(m.min(x), m.max(x)));
         }
         self.locks.edges.insert((u.min(w), u.max(w)));
-        self.locks.faces.insert(sorted([u, w, c]));
-        self.locks.faces.insert(sorted([u, w, d]));
+        self.locks.faces.insert(sorted_ids([u, w, c]));
+        self.locks.faces.insert(sorted_ids([u, w, d]));
         true
     }
 
@@ -442,7 +443,7 @@ impl Recovery {
                     if v[i] == m {
                         continue;
                     }
-                    let f = sorted(FACE_VERTICES[i].map(|j| v[j]));
+                    let f = sorted_ids(FACE_VERTICES[i].map(|j| v[j]));
                     if cut.contains(&f) {
                         continue;
                     }
@@ -545,11 +546,6 @@ impl Recovery {
         }
         false
     }
-}
-
-fn sorted(mut f: [u32; 3]) -> [u32; 3] {
-    f.sort_unstable();
-    f
 }
 
 /// One side of a point's star to grow (see [`Recovery::grown_side`]): the point, the

@@ -22,6 +22,7 @@ mod shells;
 mod topology;
 
 pub use report::CheckReport;
+pub(crate) use topology::sorted_ids;
 
 use crate::geom::Point;
 

@@ -110,12 +110,13 @@ pub(crate) fn scan(s: &Surface, r: &mut CheckReport) -> FaceStatus {
     FaceStatus { index_ok, geom_ok }
 }
 
-/// The face's ids sorted increasingly.
+/// The face's ids sorted increasingly (a min/max network: it runs per tet face in the
+/// boundary mesh's face lookups).
 #[inline]
-pub(crate) fn sorted_ids(t: [u32; 3]) -> [u32; 3] {
-    let mut k = t;
-    k.sort_unstable();
-    k
+pub(crate) fn sorted_ids([a, b, c]: [u32; 3]) -> [u32; 3] {
+    let (a, b) = (a.min(b), a.max(b));
+    let (b, c) = (b.min(c), b.max(c));
+    [a.min(b), a.max(b), c]
 }
 
 /// Groups of faces (with valid indices) on the same vertex set.
