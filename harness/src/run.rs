@@ -15,6 +15,7 @@
 
 use crate::metrics::{self, InputMeasures};
 use crate::records::{self, Record, Status};
+use crate::runners::ours::STATS_NAME;
 use crate::runners::{registry, RunArgs, RunError, RunOutput, RunRequest, Runner};
 use crate::shard::{self, RunMeta};
 use anyhow::Context;
@@ -502,12 +503,17 @@ fn fastest_of_repeats(
     (best, mesh)
 }
 
-/// The meshing call's own time that the Python drivers write to `meta.json`.
+/// The meshing call's own time: what the Python drivers write to `meta.json`
+/// (`mesh_seconds`), or for our mesher the library call's time in its statistics
+/// (`time_total`: without reading the surface and writing the mesh, like the drivers').
 fn mesh_seconds(work: &Path) -> Option<f64> {
-    std::fs::read_to_string(work.join("meta.json"))
-        .ok()
-        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
-        .and_then(|m| m["mesh_seconds"].as_f64())
+    let read = |name: &str, key: &str| {
+        std::fs::read_to_string(work.join(name))
+            .ok()
+            .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+            .and_then(|m| m[key].as_f64())
+    };
+    read("meta.json", "mesh_seconds").or_else(|| read(STATS_NAME, "time_total"))
 }
 
 fn measure(
@@ -750,7 +756,7 @@ pub fn rfc3339_now() -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::{fastest_of_repeats, refusal};
+    use super::{fastest_of_repeats, mesh_seconds, refusal};
     use crate::runners::{PeerInfo, ProcessStats, RunError, RunOutput, RunRequest, Runner};
     use std::cell::Cell;
     use std::path::{Path, PathBuf};
@@ -817,6 +823,18 @@ mod tests {
         let first = slow.run(&req).unwrap();
         let (out, _) = fastest_of_repeats(3, &slow, &req, first);
         assert_eq!((out.stats.wall_seconds, slow.next.get()), (20.0, 1));
+    }
+
+    #[test]
+    fn mesh_seconds_come_from_the_driver_else_from_our_statistics() {
+        let dir = std::env::temp_dir().join(format!("harness-mesh-seconds-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        assert_eq!(mesh_seconds(&dir), None);
+        std::fs::write(dir.join("stats.json"), r#"{"time_total": 1.5, "tets": 9}"#).unwrap();
+        assert_eq!(mesh_seconds(&dir), Some(1.5));
+        std::fs::write(dir.join("meta.json"), r#"{"mesh_seconds": 0.25}"#).unwrap();
+        assert_eq!(mesh_seconds(&dir), Some(0.25));
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
