@@ -42,7 +42,7 @@ use crate::quality::tet::{q_k, TET_EDGES};
 use crate::sizing::{edge_length, LengthMode, SizeField};
 use crate::tetmesh::{TetId, TetMesh, FACE_VERTICES};
 use filter::Grid;
-use point::{optimal_point, start_point, PointParams, REGULAR_HEIGHT};
+use point::{optimal_point, PointParams, REGULAR_HEIGHT};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::time::Instant;
@@ -279,13 +279,6 @@ const GROSS_FACTOR: f64 = 2.0;
 
 /// Iterations a grossly unacceptable tet is tried before the remedial rule applies.
 const GROSS_TRIES: u8 = 3;
-
-/// A front face whose optimal point would start within this fraction of `delta_v` of a
-/// vertex of its `K2` proposes no optimal point ([`propose`]): the filtration would drop
-/// it. On bunny00, 1.25 M of the ~1.5 M optimal points were dropped so, after costing
-/// most of the proposal time; at 0.85 the start point predicts 1.02 M of them, and 765
-/// optimal points (0.08 % of the faces skipped) would have been kept.
-const SERVED: f64 = 0.85;
 
 /// Front faces handled per parallel task (fixed, so results do not depend on threads).
 const CHUNK: usize = 256;
@@ -531,42 +524,32 @@ fn propose(
                 if n == Point::ZERO {
                     continue;
                 }
+                let (p, hp) = optimal_point(tri, h, n, field, &params.point, &mut hint);
+                let ok = p.is_finite()
+                    && hp > 0.0
+                    && hp.is_finite()
+                    && insphere(q[0], q[1], q[2], q[3], p) == Sphere::Inside;
+                if !ok {
+                    continue;
+                }
                 // A boundary face's own point: the first layer on the surface.
                 let bound = if fm.cons.is_constrained(t, i as usize) {
                     params.delta_boundary
                 } else {
                     f64::INFINITY
                 };
-                let delta_v = params.delta_v.min(bound);
-                // Most optimal points land next to a vertex of K2 and the filtration
-                // drops them: where the start point is that close already, the optimal
-                // point is not computed, and the deeper layers start there.
-                let (p0, h0) = start_point(tri, h, n, &params.point);
-                let served = (0..4)
-                    .any(|k| filter::close(p0, q[k], h0, fm.h[v[k] as usize], SERVED * delta_v));
-                let mut prev = (p0, h0);
-                if !served {
-                    let (p, hp) = optimal_point(tri, h, n, field, &params.point, &mut hint);
-                    let ok = p.is_finite()
-                        && hp > 0.0
-                        && hp.is_finite()
-                        && insphere(q[0], q[1], q[2], q[3], p) == Sphere::Inside;
-                    if !ok {
-                        continue;
-                    }
-                    out.push(Candidate {
-                        p,
-                        h: hp,
-                        k2: t,
-                        layer: 0,
-                        delta_f: params.delta_f.min(bound),
-                        delta_v,
-                        exempt_from: u32::MAX,
-                        hint,
-                    });
-                    prev = (p, hp);
-                }
+                out.push(Candidate {
+                    p,
+                    h: hp,
+                    k2: t,
+                    layer: 0,
+                    delta_f: params.delta_f.min(bound),
+                    delta_v: params.delta_v.min(bound),
+                    exempt_from: u32::MAX,
+                    hint,
+                });
                 let k2 = q;
+                let mut prev = (p, hp);
                 for layer in 1..params.layers.min(16) as u8 {
                     let q = prev.0 + n * (prev.1 * params.point.length * REGULAR_HEIGHT);
                     // Like the optimal point, strictly inside K2's circumsphere: beyond

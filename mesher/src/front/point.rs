@@ -57,15 +57,6 @@ pub const DEFAULT_POINT_LENGTH: f64 = 1.2;
 /// The height of the regular tetrahedron of unit edge, `sqrt(2/3)`.
 pub const REGULAR_HEIGHT: f64 = 0.816_496_580_927_726;
 
-/// Where [`optimal_point`] starts (NOTES.md §6, step 1): above the centroid of `f` by
-/// the height of the regular tet of edge `hbar * length` (`hbar` the mean of the sizes
-/// `h`), along the unit normal `n`; with `hbar`. Inexact construction, no size lookup.
-pub fn start_point(f: [Point; 3], h: [f64; 3], n: Point, params: &PointParams) -> (Point, f64) {
-    let hbar = (h[0] + h[1] + h[2]) / 3.0;
-    let centroid = (f[0] + f[1] + f[2]) / 3.0;
-    (centroid + n * (hbar * params.length * REGULAR_HEIGHT), hbar)
-}
-
 /// The optimal point on the face `f` with sizes `h` at its vertices, on the side of the
 /// unit normal `n`, and the size there. Inexact construction.
 pub fn optimal_point(
@@ -76,7 +67,9 @@ pub fn optimal_point(
     params: &PointParams,
     hint: &mut u32,
 ) -> (Point, f64) {
-    let (mut p, _) = start_point(f, h, n, params);
+    let hbar = (h[0] + h[1] + h[2]) / 3.0;
+    let centroid = (f[0] + f[1] + f[2]) / 3.0;
+    let mut p = centroid + n * (hbar * params.length * REGULAR_HEIGHT);
     let mut hp = field.size(p, hint);
     for _ in 0..params.steps {
         let mut target = Point::ZERO;
@@ -137,25 +130,6 @@ mod tests {
             }
             assert!(q_k(&t) < 1.01);
         }
-    }
-
-    #[test]
-    fn the_start_point_is_the_optimal_point_without_steps() {
-        let f = [
-            Point::new(0.0, 0.0, 0.0),
-            Point::new(0.5, 0.0, 0.0),
-            Point::new(0.25, 0.43, 0.0),
-        ];
-        let h = [0.4, 0.5, 0.6];
-        let params = PointParams {
-            steps: 0,
-            ..PointParams::default()
-        };
-        let (p0, h0) = start_point(f, h, Point::Z, &params);
-        let (p, _) = optimal_point(f, h, Point::Z, &ConstantSize(1.0), &params, &mut 0);
-        assert_eq!(p0, p);
-        assert!((h0 - 0.5).abs() < 1e-15);
-        assert!((p0.z - 0.5 * params.length * REGULAR_HEIGHT).abs() < 1e-15);
     }
 
     #[test]
