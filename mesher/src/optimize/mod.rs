@@ -15,8 +15,9 @@
 //! vertices are fixed (`Ops::insert_grown_around`), else the collapse of one of its
 //! free vertices onto a neighbour (`Ops::collapse`, a vertex crowded against the
 //! boundary), or one point for the free vertices of a cavity grown around it
-//! (`Ops::replace_grown_around`), or a compass search for the position of one
-//! (`Ops::smooth_search`), then a polishing pass.
+//! (`Ops::replace_grown_around`), or one point for the ring of one of its edges off the
+//! surface (`Ops::split_edge_of`), or a compass search for the position of one free
+//! vertex (`Ops::smooth_search`), then a polishing pass.
 //! Last of all, the smallest dihedral angle is widened by moving a free vertex of its
 //! tet (`Ops::widen_dihedral`), as far as its ball's worst `Q_K` allows; a ball whose
 //! worst is within 2 % of what its boundary faces allow (their per-face `Q_t` terms,
@@ -311,7 +312,11 @@ fn last_resort(ops: &mut Ops, t: u32, options: &OptimizeOptions) -> Option<LastR
             nbrs.into_iter().any(|x| x != y && ops.collapse(x, y))
         })
     };
-    if collapsed() || (options.insert && ops.replace_grown_around(t, LAST_RESORT_GAIN)) {
+    if collapsed()
+        || (options.insert
+            && (ops.replace_grown_around(t, LAST_RESORT_GAIN)
+                || ops.split_edge_of(t, LAST_RESORT_GAIN)))
+    {
         return Some(LastResort::Moved);
     }
     let done = options.smoothing != Smoothing::Off && free.iter().any(|&x| ops.smooth_search(x));

@@ -447,3 +447,83 @@ fn debug_ops_on_a_tet() {
     let ok = ops.insert_grown_around(t);
     eprintln!("insert_grown_around -> {ok}");
 }
+
+/// The last resort's edge split (`Ops::split_edge_of`): a free vertex nearly in the
+/// plane of a fan of small fixed triangles (a pyramid of fixed vertices, the free
+/// vertex just above its base's centre) makes four flat tets around the edge from it to
+/// the fan's centre; a point placed on that edge's ring lowers the ring's worst.
+#[test]
+fn an_edge_split_lifts_the_flat_tets_of_a_fan() {
+    let c = Point::new(0.0, 0.0, 0.0);
+    let ring: Vec<Point> = (0..4)
+        .map(|k| {
+            let a = std::f64::consts::FRAC_PI_2 * k as f64;
+            Point::new(0.01 * a.cos(), 0.01 * a.sin(), 0.0)
+        })
+        .collect();
+    let apex = Point::new(0.0, 0.0, 0.03);
+    let free = Point::new(0.001, 0.0005, 0.0003);
+    // 0 centre, 1-4 ring, 5 apex, 6 the free vertex.
+    let mut points = vec![c];
+    points.extend(&ring);
+    points.push(apex);
+    points.push(free);
+    let mut tets = Vec::new();
+    let mut boundary = Vec::new();
+    for k in 0..4u32 {
+        let (a, b) = (1 + k, 1 + (k + 1) % 4);
+        // Bottom face (0, b, a) seen from above, side face (a, b, 5) from inside.
+        boundary.push([0, b, a]);
+        boundary.push([a, b, 5]);
+        tets.push([0, b, a, 6]);
+        tets.push([a, b, 5, 6]);
+    }
+    // Orient every tet positively.
+    for t in &mut tets {
+        let p = t.map(|x| points[x as usize]);
+        if signed_volume(&p) < 0.0 {
+            t.swap(0, 1);
+        }
+    }
+    let mesh = TetMesh::from_tets(points, &tets).expect("a valid pyramid");
+    let region = vec![1; mesh.num_slots()];
+    let mut fixed = vec![true; mesh.num_vertices()];
+    fixed[6] = false;
+    let mut locks = Locks::default();
+    for f in &boundary {
+        let mut s = *f;
+        s.sort_unstable();
+        locks.faces.insert(s);
+        for (a, b) in [(s[0], s[1]), (s[1], s[2]), (s[0], s[2])] {
+            locks.edges.insert((a, b));
+        }
+    }
+    let mut ops = ops::Ops::new(Local::new(mesh), locks, region, fixed);
+    let worst_of = |ops: &ops::Ops| {
+        ops.l
+            .mesh
+            .finite_tets()
+            .map(|t| ops.tet_quality(t.0))
+            .fold(1.0, f64::max)
+    };
+    let before = worst_of(&ops);
+    let t = ops
+        .l
+        .mesh
+        .finite_tets()
+        .map(|t| t.0)
+        .max_by(|&a, &b| ops.tet_quality(a).total_cmp(&ops.tet_quality(b)))
+        .expect("tets");
+    assert!(before > 10.0, "flat fan tets expected, worst {before}");
+    assert!(ops.split_edge_of(t, 0.01), "the split should apply");
+    let after = worst_of(&ops);
+    assert!(after < 0.99 * before, "worst {before} -> {after}");
+    ops.l.mesh.validate(false).expect("valid after the split");
+    let mut scratch = Vec::new();
+    for f in &boundary {
+        assert!(
+            ops.l.has_face(f[0], f[1], f[2], &mut scratch),
+            "boundary face {f:?} kept"
+        );
+    }
+}
