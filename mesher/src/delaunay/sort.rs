@@ -142,7 +142,15 @@ const fn hilbert_table() -> [[u16; 8]; HILBERT_STATES] {
 /// Hilbert keys of `points` inside their bounding box (non-finite points get key 0).
 pub fn hilbert_keys(points: &[Point]) -> Vec<u64> {
     let finite = points.iter().filter(|p| p.is_finite());
-    let Some(bb) = Aabb::of_points(finite) else {
+    hilbert_keys_in(points, Aabb::of_points(finite))
+}
+
+/// [`hilbert_keys`] on the grid over the box `bb` (which should hold the finite
+/// points; those outside are clamped to it), so that a subset of a point set gets the
+/// keys the whole set gives it (a cast saturates: coordinates below the box get 0);
+/// all zero without a box.
+pub fn hilbert_keys_in(points: &[Point], bb: Option<Aabb>) -> Vec<u64> {
+    let Some(bb) = bb else {
         return vec![0; points.len()];
     };
     let ext = (bb.max - bb.min).max_element();
@@ -174,7 +182,19 @@ pub fn hilbert_order(points: &[Point]) -> Vec<u32> {
 /// Indices of `points` sorted by `major(i)`, then along the Hilbert curve (ties by
 /// index: the order is total, so the parallel sort is deterministic).
 pub fn hilbert_order_by(points: &[Point], major: impl Fn(usize) -> u8 + Sync) -> Vec<u32> {
-    let keys = hilbert_keys(points);
+    let finite = points.iter().filter(|p| p.is_finite());
+    hilbert_order_by_in(points, Aabb::of_points(finite), major)
+}
+
+/// [`hilbert_order_by`] with the keys of [`hilbert_keys_in`] over the box `bb`: the
+/// order of a subset is then the order its points have in the whole set (ties by
+/// index).
+pub fn hilbert_order_by_in(
+    points: &[Point],
+    bb: Option<Aabb>,
+    major: impl Fn(usize) -> u8 + Sync,
+) -> Vec<u32> {
+    let keys = hilbert_keys_in(points, bb);
     // The sort keys inline (not looked up through the index): a sequential sort.
     let mut items: Vec<(u8, u64, u32)> = keys
         .into_iter()
@@ -211,6 +231,28 @@ pub fn brio_order(points: &[Point], seed: u64) -> Vec<u32> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_subset_ordered_over_the_whole_box_keeps_its_order_in_the_whole() {
+        let mut rng = SplitMix64::new(7);
+        let mut u = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        let pts: Vec<Point> = (0..500).map(|_| Point::new(u(), u(), u())).collect();
+        let whole = hilbert_order_by(&pts, |i| (i % 3) as u8);
+        let keep = |i: usize| i % 7 != 0;
+        let subset: Vec<usize> = (0..pts.len()).filter(|&i| keep(i)).collect();
+        let sub_pts: Vec<Point> = subset.iter().map(|&i| pts[i]).collect();
+        let bb = Aabb::of_points(pts.iter());
+        let ordered: Vec<usize> = hilbert_order_by_in(&sub_pts, bb, |k| (subset[k] % 3) as u8)
+            .into_iter()
+            .map(|k| subset[k as usize])
+            .collect();
+        let expected: Vec<usize> = whole
+            .into_iter()
+            .map(|i| i as usize)
+            .filter(|&i| keep(i))
+            .collect();
+        assert_eq!(ordered, expected);
+    }
 
     #[test]
     fn hilbert_keys_are_a_bijection_on_a_small_grid() {
