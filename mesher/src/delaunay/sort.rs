@@ -238,7 +238,7 @@ mod tests {
         let mut u = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
         let pts: Vec<Point> = (0..500).map(|_| Point::new(u(), u(), u())).collect();
         let whole = hilbert_order_by(&pts, |i| (i % 3) as u8);
-        let keep = |i: usize| i % 7 != 0;
+        let keep = |i: usize| !i.is_multiple_of(7);
         let subset: Vec<usize> = (0..pts.len()).filter(|&i| keep(i)).collect();
         let sub_pts: Vec<Point> = subset.iter().map(|&i| pts[i]).collect();
         let bb = Aabb::of_points(pts.iter());
