@@ -24,6 +24,19 @@ pub(crate) struct Locks {
 }
 
 impl Locks {
+    /// The faces locked, and their edges.
+    pub fn of_faces(faces: &[[u32; 3]]) -> Locks {
+        let mut locks = Locks::default();
+        for f in faces {
+            let s = crate::surface::sorted_ids(*f);
+            locks.faces.insert(s);
+            for (a, b) in [(s[0], s[1]), (s[1], s[2]), (s[0], s[2])] {
+                locks.edges.insert((a, b));
+            }
+        }
+        locks
+    }
+
     pub fn edge(&self, a: u32, b: u32) -> bool {
         self.edges.contains(&(a.min(b), a.max(b)))
     }

@@ -141,8 +141,12 @@ const fn hilbert_table() -> [[u16; 8]; HILBERT_STATES] {
 
 /// Hilbert keys of `points` inside their bounding box (non-finite points get key 0).
 pub fn hilbert_keys(points: &[Point]) -> Vec<u64> {
-    let finite = points.iter().filter(|p| p.is_finite());
-    hilbert_keys_in(points, Aabb::of_points(finite))
+    hilbert_keys_in(points, finite_bounds(points))
+}
+
+/// The box of the finite points.
+fn finite_bounds(points: &[Point]) -> Option<Aabb> {
+    Aabb::of_points(points.iter().filter(|p| p.is_finite()))
 }
 
 /// [`hilbert_keys`] on the grid over the box `bb` (which should hold the finite
@@ -182,8 +186,7 @@ pub fn hilbert_order(points: &[Point]) -> Vec<u32> {
 /// Indices of `points` sorted by `major(i)`, then along the Hilbert curve (ties by
 /// index: the order is total, so the parallel sort is deterministic).
 pub fn hilbert_order_by(points: &[Point], major: impl Fn(usize) -> u8 + Sync) -> Vec<u32> {
-    let finite = points.iter().filter(|p| p.is_finite());
-    hilbert_order_by_in(points, Aabb::of_points(finite), major)
+    hilbert_order_by_in(points, finite_bounds(points), major)
 }
 
 /// [`hilbert_order_by`] with the keys of [`hilbert_keys_in`] over the box `bb`: the

@@ -36,7 +36,7 @@ mod seed;
 
 use crate::delaunay::{Constraints, DelaunayError, Kernel, Rejection};
 use crate::geom::predicates::{insphere, Sphere};
-use crate::geom::Point;
+use crate::geom::{Aabb, Point};
 use crate::quality::normalized_length;
 use crate::quality::tet::{q_k, TET_EDGES};
 use crate::sizing::{edge_length, LengthMode, SizeField};
@@ -351,7 +351,7 @@ pub fn advance(
         tries: vec![0u8; slots],
     };
     let mut kernel = Kernel::new();
-    if let Some(bb) = crate::geom::Aabb::of_points(fm.mesh.points()) {
+    if let Some(bb) = Aabb::of_points(fm.mesh.points()) {
         kernel.set_bounds(bb.min, bb.max);
     }
     let mut report = FrontReport::default();
@@ -451,7 +451,7 @@ fn reorder(cands: &[Candidate], seed: u64) -> Vec<Candidate> {
 
 /// The candidates by layer (the optimal points first), each layer along the Hilbert
 /// curve over `bounds`.
-fn by_layer_then_hilbert(cands: &[Candidate], bounds: Option<crate::geom::Aabb>) -> Vec<Candidate> {
+fn by_layer_then_hilbert(cands: &[Candidate], bounds: Option<Aabb>) -> Vec<Candidate> {
     let pts: Vec<Point> = cands.iter().map(|c| c.p).collect();
     let order = crate::delaunay::sort::hilbert_order_by_in(&pts, bounds, |i| cands[i].layer);
     order.into_iter().map(|i| cands[i as usize]).collect()
@@ -515,7 +515,7 @@ struct Proposed {
     count: usize,
     /// The box of all the points proposed: the filtration's order (along the Hilbert
     /// curve over this box) is then the order the points had among all of them.
-    bounds: Option<crate::geom::Aabb>,
+    bounds: Option<Aabb>,
 }
 
 /// Optimal points of the front faces, kept when strictly inside `K2`'s circumsphere.
@@ -529,7 +529,7 @@ fn propose(
     params: &FrontParams,
     faces: &[(u32, u8)],
 ) -> Proposed {
-    let chunks: Vec<(Vec<Candidate>, usize, Option<crate::geom::Aabb>)> = faces
+    let chunks: Vec<(Vec<Candidate>, usize, Option<Aabb>)> = faces
         .par_chunks(CHUNK)
         .map(|chunk| {
             let mut out = Vec::with_capacity(chunk.len());
@@ -598,30 +598,23 @@ fn propose(
                 }
             }
             let count = out.len();
-            let bounds = crate::geom::Aabb::of_points(out.iter().map(|c| &c.p));
+            let bounds = Aabb::of_points(out.iter().map(|c| &c.p));
             if !params.filter_all_vertices {
                 out.retain(|c| !near_own_k2(fm, c));
             }
             (out, count, bounds)
         })
         .collect();
-    let mut proposed = Proposed {
-        cands: Vec::new(),
-        count: 0,
-        bounds: None,
-    };
-    for (cands, count, bounds) in chunks {
-        proposed.cands.extend(cands);
-        proposed.count += count;
-        proposed.bounds = match (proposed.bounds, bounds) {
-            (Some(a), Some(b)) => Some(crate::geom::Aabb {
-                min: a.min.min(b.min),
-                max: a.max.max(b.max),
-            }),
-            (a, b) => a.or(b),
-        };
+    Proposed {
+        count: chunks.iter().map(|c| c.1).sum(),
+        bounds: Aabb::of_points(
+            chunks
+                .iter()
+                .filter_map(|c| c.2.as_ref())
+                .flat_map(|b| [&b.min, &b.max]),
+        ),
+        cands: chunks.into_iter().flat_map(|c| c.0).collect(),
     }
-    proposed
 }
 
 /// True when `c` is closer than its `delta_v` to a vertex of its own `K2`.
@@ -664,7 +657,7 @@ fn filtrate(
         *sizes.select_nth_unstable_by(k, f64::total_cmp).1
     };
     let pts = fm.mesh.points();
-    let bounds = crate::geom::Aabb::of_points(
+    let bounds = Aabb::of_points(
         cands
             .iter()
             .map(|c| &c.p)

@@ -151,15 +151,7 @@ pub struct Domain {
 /// Optimises the domain's tets in place; returns what it did.
 pub fn optimize(domain: &mut Domain, options: &OptimizeOptions) -> OptimizeReport {
     let t0 = Instant::now();
-    let mut locks = Locks::default();
-    for f in &domain.constrained {
-        let mut s = *f;
-        s.sort_unstable();
-        locks.faces.insert(s);
-        for (a, b) in [(s[0], s[1]), (s[1], s[2]), (s[0], s[2])] {
-            locks.edges.insert((a, b));
-        }
-    }
+    let locks = Locks::of_faces(&domain.constrained);
     let mesh = std::mem::take(&mut domain.mesh);
     let region = std::mem::take(&mut domain.region);
     let fixed = std::mem::take(&mut domain.fixed);

@@ -25,7 +25,7 @@ use crate::geom::predicates::Orientation;
 use crate::geom::search::compass;
 use crate::geom::Point;
 use crate::quality::target::face_best_q_k;
-use crate::quality::tet::{min_dihedral, q_k, signed_volume, WELL_SHAPED_Q_K};
+use crate::quality::tet::{min_dihedral, q_k, signed_volume, TET_EDGES, WELL_SHAPED_Q_K};
 use crate::tetmesh::{FaceRef, FACE_VERTICES};
 use crate::FastMap;
 use std::cell::Cell;
@@ -741,9 +741,9 @@ impl Ops {
             return false;
         }
         let v = self.l.tet(t);
-        let mut edges: Vec<(f64, u32, u32)> = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)]
+        let mut edges: Vec<(f64, u32, u32)> = TET_EDGES
             .iter()
-            .map(|&(i, j)| (self.l.p(v[i]).distance(self.l.p(v[j])), v[i], v[j]))
+            .map(|&[i, j]| (self.l.p(v[i]).distance(self.l.p(v[j])), v[i], v[j]))
             .collect();
         edges.sort_by(|a, b| b.0.total_cmp(&a.0));
         for (_, x, y) in edges {

@@ -397,18 +397,12 @@ fn debug_ops_on_a_tet() {
     let mut region = vec![1; vm.tets.len()];
     region.resize(mesh.num_slots(), 0);
     let mut fixed = vec![false; mesh.num_vertices()];
-    let mut locks = Locks::default();
     for t in &vm.triangles {
         for &x in t {
             fixed[x as usize] = true;
         }
-        let mut s = *t;
-        s.sort_unstable();
-        locks.faces.insert(s);
-        for (a, b) in [(s[0], s[1]), (s[1], s[2]), (s[0], s[2])] {
-            locks.edges.insert((a, b));
-        }
     }
+    let locks = Locks::of_faces(&vm.triangles);
     let mut ops = ops::Ops::new(Local::new(mesh), locks, region, fixed);
     let find = |ops: &ops::Ops| {
         ops.l.mesh.finite_tets().map(|t| t.0).find(|&t| {
@@ -489,15 +483,7 @@ fn an_edge_split_lifts_the_flat_tets_of_a_fan() {
     let region = vec![1; mesh.num_slots()];
     let mut fixed = vec![true; mesh.num_vertices()];
     fixed[6] = false;
-    let mut locks = Locks::default();
-    for f in &boundary {
-        let mut s = *f;
-        s.sort_unstable();
-        locks.faces.insert(s);
-        for (a, b) in [(s[0], s[1]), (s[1], s[2]), (s[0], s[2])] {
-            locks.edges.insert((a, b));
-        }
-    }
+    let locks = Locks::of_faces(&boundary);
     let mut ops = ops::Ops::new(Local::new(mesh), locks, region, fixed);
     let worst_of = |ops: &ops::Ops| {
         ops.l
