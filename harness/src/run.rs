@@ -473,7 +473,7 @@ const REPEAT_UNDER_SECONDS: f64 = 10.0;
 
 /// `first` and up to `repeat - 1` more runs of a quick (model, mesher): the output of
 /// the last successful run with the process measures of the fastest, and the smallest
-/// meshing time a Python driver reported (`meta.json`, see [`mesh_seconds`]). A repeat
+/// meshing time the mesher reported (see [`mesh_seconds`]). A repeat
 /// that fails is ignored (the first run succeeded).
 fn fastest_of_repeats(
     repeat: usize,
