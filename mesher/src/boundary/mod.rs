@@ -804,10 +804,10 @@ fn recover_all(
     rec.locks.edges = kept_edges;
     let present = edges_now(rec, &mesh_edges);
     for (&(a, b, t), &here) in edges.iter().zip(&present) {
-        if here {
-            lock_edge(rec, m(a), m(b));
-        } else {
-            missing.push((a, b, t));
+        match here {
+            Here::Locked => {}
+            Here::Present => lock_edge(rec, m(a), m(b)),
+            Here::Missing => missing.push((a, b, t)),
         }
     }
     if round == 0 {
@@ -860,13 +860,16 @@ fn recover_all(
     let found = faces_now(rec, &kept_faces, since, &mesh_tris);
     // Kept faces the edges' flips took away are dropped, the others stay.
     for (k, f) in mesh_tris.iter().enumerate() {
-        if !found[k] {
+        if found[k] == Here::Missing {
             kept_faces.remove(&sorted_ids(*f));
         }
     }
     rec.locks.faces = kept_faces;
     for (k, f) in mesh_tris.iter().enumerate() {
-        if found[k] {
+        if found[k] == Here::Locked {
+            continue;
+        }
+        if found[k] == Here::Present {
             rec.locks.faces.insert(sorted_ids(*f));
         } else {
             missing_faces += 1;
@@ -935,16 +938,39 @@ fn recover_all(
     Ok((stuck, bad))
 }
 
+/// Whether an input edge or triangle is in the mesh ([`edges_now`], [`faces_now`]).
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Here {
+    /// Locked (kept by an incremental round): present, and nothing to lock.
+    Locked,
+    /// Present, not locked yet.
+    Present,
+    Missing,
+}
+
 /// Which edges (mesh vertex ids) are in the mesh: from the locks `kept` by an
 /// incremental round (exactly the locked entities still present) and a local look-up
 /// for the others; one sweep over the mesh when there are none.
-fn edges_now(rec: &mut Recovery, edges: &[(u32, u32)]) -> Vec<bool> {
+fn edges_now(rec: &mut Recovery, edges: &[(u32, u32)]) -> Vec<Here> {
+    let here = |present| {
+        if present {
+            Here::Present
+        } else {
+            Here::Missing
+        }
+    };
     if rec.locks.edges.is_empty() {
-        return rec.l.edges_present(edges);
+        return rec.l.edges_present(edges).into_iter().map(here).collect();
     }
     edges
         .iter()
-        .map(|&(a, b)| rec.locks.edge(a, b) || rec.has_edge(a, b))
+        .map(|&(a, b)| {
+            if rec.locks.edge(a, b) {
+                Here::Locked
+            } else {
+                here(rec.has_edge(a, b))
+            }
+        })
         .collect()
 }
 
@@ -955,14 +981,24 @@ fn faces_now(
     kept: &FastSet<[u32; 3]>,
     since: u32,
     tris: &[[u32; 3]],
-) -> Vec<bool> {
+) -> Vec<Here> {
+    let here = |present| {
+        if present {
+            Here::Present
+        } else {
+            Here::Missing
+        }
+    };
     if kept.is_empty() {
-        return faces_found(&rec.l, tris);
+        return faces_found(&rec.l, tris).into_iter().map(here).collect();
     }
     tris.iter()
         .map(|&f| {
-            (!rec.l.stamps.changed_since(&f, since) && kept.contains(&sorted_ids(f)))
-                || rec.has_face(f[0], f[1], f[2])
+            if !rec.l.stamps.changed_since(&f, since) && kept.contains(&sorted_ids(f)) {
+                Here::Locked
+            } else {
+                here(rec.has_face(f[0], f[1], f[2]))
+            }
         })
         .collect()
 }

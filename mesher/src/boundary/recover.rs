@@ -133,6 +133,9 @@ pub(crate) struct Recovery {
     pub(super) cone_tets: Marks,
     /// Vertices on the boundary of that region.
     pub(super) cone_verts: Marks,
+    /// Tets taken in by the growth of a side of a Steiner point's star
+    /// ([`super::suppress`]), for one apex at a time.
+    pub(super) grow_marks: std::cell::RefCell<Marks>,
     pub(super) scratch: Vec<u32>,
     star: Vec<u32>,
     /// The tets of [`Recovery::met_below`] (only their number is returned).
@@ -154,6 +157,7 @@ impl Recovery {
             removal_failed: HashMap::default(),
             cone_tets: Marks::default(),
             cone_verts: Marks::default(),
+            grow_marks: Default::default(),
             scratch: Vec::new(),
             star: Vec::new(),
             met: Vec::new(),
