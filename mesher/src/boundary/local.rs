@@ -502,8 +502,21 @@ impl Local {
                 continue;
             }
             let adj = self.adj(t);
+            // The side of the line `ab` each edge of `t` passes, computed once though
+            // two faces ask (an edge `ji` is `ij` the other way round).
+            let mut sides: [Option<Orientation>; 16] = [None; 16];
+            let mut side = |i: usize, j: usize| {
+                let (lo, hi) = (i.min(j), i.max(j));
+                let o = *sides[lo * 4 + hi].get_or_insert_with(|| self.orient(a, b, v[lo], v[hi]));
+                if i < j {
+                    o
+                } else {
+                    o.reversed()
+                }
+            };
             for i in 0..4 {
-                let f = FACE_VERTICES[i].map(|j| v[j]);
+                let fv = FACE_VERTICES[i];
+                let f = fv.map(|j| v[j]);
                 if f.contains(&a) {
                     continue;
                 }
@@ -511,11 +524,7 @@ impl Local {
                 if self.is_ghost(u) || seen[u as usize] == visit {
                     continue;
                 }
-                let s = [
-                    self.orient(a, b, f[0], f[1]),
-                    self.orient(a, b, f[1], f[2]),
-                    self.orient(a, b, f[2], f[0]),
-                ];
+                let s = [side(fv[0], fv[1]), side(fv[1], fv[2]), side(fv[2], fv[0])];
                 if s.contains(&Orientation::Positive) && s.contains(&Orientation::Negative) {
                     continue;
                 }
