@@ -194,14 +194,20 @@ impl Ops {
         if ring.len() < 3 || ring.len() > MAX_RING {
             return false;
         }
-        let old: Vec<u32> = ring.iter().map(|r| r.0).collect();
+        // On the stack (a ring has at most MAX_RING tets): most removals are tried
+        // and fail, and four small allocations were a tenth of their cost.
+        let n = ring.len();
+        let (mut old, mut poly, mut pts) =
+            ([0u32; MAX_RING], [0u32; MAX_RING], [Point::ZERO; MAX_RING]);
+        for (k, &(t, p)) in ring.iter().enumerate() {
+            (old[k], poly[k], pts[k]) = (t, p, self.l.p(p));
+        }
+        let (old, poly) = (&old[..n], &poly[..n]);
         let r = self.region_of(old[0]);
         if r == 0 || old.iter().any(|&t| self.region_of(t) != r) {
             return false;
         }
-        let before = self.worst(&old);
-        let poly: Vec<u32> = ring.iter().map(|r| r.1).collect();
-        let pts: Vec<Point> = poly.iter().map(|&v| self.l.p(v)).collect();
+        let before = self.worst(old);
         let (px, py) = (self.l.p(x), self.l.p(y));
         let inv = |t: [Point; 4]| {
             if signed_volume(&t) > 0.0 {
@@ -220,8 +226,8 @@ impl Ops {
             }
             up.min(inv([b, a, c, px]))
         };
-        let idx: Vec<usize> = (0..poly.len()).collect();
-        let Some(tris) = best_triangulation_above(&idx, &q, floor) else {
+        let idx: [usize; MAX_RING] = std::array::from_fn(|k| k);
+        let Some(tris) = best_triangulation_above(&idx[..n], &q, floor) else {
             return false;
         };
         let mut new = Vec::with_capacity(tris.len() * 2);
@@ -231,7 +237,7 @@ impl Ops {
             new.push([b, a, c, x]);
         }
         let after = new.iter().map(|&t| self.quality(t)).fold(1.0, f64::max);
-        if after >= before || self.l.replace(&old, &new).is_err() {
+        if after >= before || self.l.replace(old, &new).is_err() {
             return false;
         }
         self.claim(r);
@@ -274,7 +280,7 @@ impl Ops {
     /// The star of `v` (all in the domain, no ghost) and its link: the faces opposite
     /// `v`, each as its tet lists it (`v` on the positive side); `None` otherwise.
     fn ball(&self, v: u32) -> Option<(Vec<u32>, Vec<[u32; 3]>)> {
-        let mut star = Vec::new();
+        let mut star = Vec::with_capacity(STAR_CAPACITY);
         self.l.star(v, &mut star);
         if star.is_empty()
             || star
@@ -283,14 +289,12 @@ impl Ops {
         {
             return None;
         }
-        let link = star
-            .iter()
-            .map(|&t| {
-                let tv = self.l.tet(t);
-                let i = (0..4).find(|&i| tv[i] == v)?;
-                Some(FACE_VERTICES[i].map(|k| tv[k]))
-            })
-            .collect::<Option<Vec<_>>>()?;
+        let mut link = Vec::with_capacity(star.len());
+        for &t in &star {
+            let tv = self.l.tet(t);
+            let i = (0..4).find(|&i| tv[i] == v)?;
+            link.push(FACE_VERTICES[i].map(|k| tv[k]));
+        }
         Some((star, link))
     }
 
@@ -517,7 +521,7 @@ impl Ops {
     }
 
     fn collapse_now(&mut self, x: u32, y: u32) -> bool {
-        let mut ball = Vec::new();
+        let mut ball = Vec::with_capacity(STAR_CAPACITY);
         self.l.star(y, &mut ball);
         let Some(&first) = ball.first() else {
             return false;
@@ -794,7 +798,7 @@ impl Ops {
     /// among a few candidates: the mean of the ideal points of the faces, each face's
     /// ideal point, the centroid, `extra`. `None` for an empty cavity.
     fn cone_plan(&self, cavity: &[u32], extra: Option<Point>) -> Option<Cone> {
-        let mut faces: Vec<[u32; 3]> = Vec::new();
+        let mut faces: Vec<[u32; 3]> = Vec::with_capacity(4 * cavity.len());
         for &c in cavity {
             let v = self.l.tet(c);
             let adj = self.l.adj(c);
@@ -807,11 +811,13 @@ impl Ops {
         // Each face listed as its tet lists it has the cavity on its positive side, where
         // its ideal point is. Candidates: the mean of the ideal points, then each face's
         // own ideal point, then the centroid of the cavity's vertices; the best wins.
-        let mut candidates: Vec<Point> = Vec::with_capacity(faces.len() + 2);
-        candidates.extend(self.target(&faces, u32::MAX, Smoothing::Optimal));
-        for f in &faces {
-            candidates.extend(self.target(&[*f], u32::MAX, Smoothing::Optimal));
-        }
+        // (The ideal points once each: the mean is their sum in the same order, a single
+        // face's is its own, as `target` gives them.)
+        let ideal: Vec<Point> = faces.iter().map(|f| self.ideal_point(f)).collect();
+        let mut candidates: Vec<Point> = Vec::with_capacity(faces.len() + 3);
+        let mean = ideal.iter().copied().sum::<Point>() / faces.len() as f64;
+        candidates.extend(mean.is_finite().then_some(mean));
+        candidates.extend(ideal.iter().copied().filter(|p| p.is_finite()));
         let corners: Vec<Point> = faces.iter().flatten().map(|&x| self.l.p(x)).collect();
         candidates.push(corners.iter().sum::<Point>() / corners.len().max(1) as f64);
         candidates.extend(extra);
@@ -875,6 +881,15 @@ impl Ops {
         true
     }
 
+    /// The apex of the regular tet on face `f` (its mean edge length), on its positive
+    /// side.
+    fn ideal_point(&self, f: &[u32; 3]) -> Point {
+        let [a, b, c] = f.map(|u| self.l.p(u));
+        let h = ((b - a).length() + (c - b).length() + (a - c).length()) / 3.0;
+        let normal = (b - a).cross(c - a).normalize_or_zero();
+        (a + b + c) / 3.0 + normal * (h * REGULAR_HEIGHT)
+    }
+
     /// Where smoothing moves a vertex whose ball has the faces `link` (seen from it).
     fn target(&self, link: &[[u32; 3]], v: u32, how: Smoothing) -> Option<Point> {
         let n = link.len() as f64;
@@ -887,15 +902,7 @@ impl Ops {
                 let m = nb.len() as f64;
                 return Some(nb.iter().map(|&u| self.l.p(u)).sum::<Point>() / m);
             }
-            Smoothing::Optimal => link
-                .iter()
-                .map(|f| {
-                    let [a, b, c] = f.map(|u| self.l.p(u));
-                    let h = ((b - a).length() + (c - b).length() + (a - c).length()) / 3.0;
-                    let normal = (b - a).cross(c - a).normalize_or_zero();
-                    (a + b + c) / 3.0 + normal * (h * REGULAR_HEIGHT)
-                })
-                .sum::<Point>(),
+            Smoothing::Optimal => link.iter().map(|f| self.ideal_point(f)).sum::<Point>(),
         };
         let t = sum / n;
         let same = v != u32::MAX && t == self.l.p(v);
@@ -922,6 +929,10 @@ struct Cone {
     /// Diagonal of the box of the cavity's vertices and `p`.
     span: f64,
 }
+
+/// Room for a vertex's star from the start (most have 15-40 tets): a star grown from
+/// empty took four reallocations each.
+const STAR_CAPACITY: usize = 48;
 
 /// Layers of face neighbours around a sliver of four fixed vertices for the last resort
 /// (from 2). On dino (CGAL data) the worst tet, a sliver under a nearly flat part of
