@@ -367,7 +367,8 @@ impl Ops {
             return false;
         };
         let before = self.worst(&star);
-        let score = |q| self.cone_score(&link, q, before);
+        let corners = self.face_points(&link);
+        let score = |q| cone_score_at(&corners, q, before);
         // The ball's worst is a maximum of several tets' Q_K: a local search from the
         // vertex can settle in a basin next to a better one (homer, CGAL data: a free
         // vertex between two tets stayed at Q_K 112 where its ball allows 78, 0.84 of
@@ -624,8 +625,9 @@ impl Ops {
         let Some((_, k, mut cone)) = closest else {
             return false;
         };
+        let corners = self.face_points(&cone.faces);
         (cone.after, cone.p) = compass(
-            |q| self.cone_score(&cone.faces, q, cone.after),
+            |q| cone_score_at(&corners, q, cone.after),
             cone.p,
             cone.after,
             0.125 * cone.span,
@@ -779,8 +781,9 @@ impl Ops {
         // The centre of the cavity's kernel (the point farthest inside all its faces)
         // as a start: the valid points often lie in a thin lens that the other
         // candidates miss.
+        let corners = self.face_points(&cone.faces);
         if let Some(c) = self.kernel_centre(&cone.faces) {
-            let s = self.cone_score(&cone.faces, c, cone.after);
+            let s = cone_score_at(&corners, c, cone.after);
             if s < cone.after {
                 (cone.after, cone.p) = (s, c);
             }
@@ -788,7 +791,7 @@ impl Ops {
         // A random descent first: the cone's worst is a maximum over its faces, with
         // several basins (hand, CGAL data: 313 -> 189).
         let bound = cone.after;
-        let score = |q| self.cone_score(&cone.faces, q, bound);
+        let score = |q| cone_score_at(&corners, q, bound);
         let (p, after) = random_descent(score, cone.p, cone.after, 0.25 * cone.span);
         (cone.after, cone.p) = compass(score, p, after, 0.125 * cone.span);
         cone.after < cone.before * (1.0 - min_gain) && self.cone_apply(cavity, cone, r)
@@ -825,9 +828,10 @@ impl Ops {
         // The first candidate with the lowest score. Only a score below both `before`
         // and the best so far can matter, so each evaluation stops once it reaches them.
         let mut best: Option<(f64, Point)> = None;
+        let face_corners = self.face_points(&faces);
         for p in candidates {
             let bound = best.map_or(before, |b| b.0.min(before));
-            let s = self.cone_score(&faces, p, bound);
+            let s = cone_score_at(&face_corners, p, bound);
             if best.is_none_or(|b| s < b.0) {
                 best = Some((s, p));
             }
@@ -848,14 +852,12 @@ impl Ops {
     /// The worst `Q_K` of the cone from `p` over `faces` (infinite if a tet is not
     /// positive), or some value `>= bound` once it reaches `bound`.
     fn cone_score(&self, faces: &[[u32; 3]], p: Point, bound: f64) -> f64 {
-        let pts = |f: &[u32; 3]| {
-            let [a, b, c] = f.map(|x| self.l.p(x));
-            [a, b, c, p]
-        };
-        if faces.iter().any(|f| signed_volume(&pts(f)) <= 0.0) {
-            return f64::INFINITY;
-        }
-        max_until(faces.iter().map(|f| q_k(&pts(f))), bound)
+        cone_score_at(&self.face_points(faces), p, bound)
+    }
+
+    /// The corners of `faces`, read once for the many points a search scores.
+    fn face_points(&self, faces: &[[u32; 3]]) -> Vec<[Point; 3]> {
+        faces.iter().map(|f| f.map(|x| self.l.p(x))).collect()
     }
 
     /// The Chebyshev centre of the half-spaces of `faces` (each with the region on its
@@ -908,6 +910,15 @@ impl Ops {
         let same = v != u32::MAX && t == self.l.p(v);
         (t.is_finite() && !same).then_some(t)
     }
+}
+
+/// [`Ops::cone_score`] over faces given by their corners.
+fn cone_score_at(faces: &[[Point; 3]], p: Point, bound: f64) -> f64 {
+    let pts = |&[a, b, c]: &[Point; 3]| [a, b, c, p];
+    if faces.iter().any(|f| signed_volume(&pts(f)) <= 0.0) {
+        return f64::INFINITY;
+    }
+    max_until(faces.iter().map(|f| q_k(&pts(f))), bound)
 }
 
 /// The kinds of operation whose failures are remembered.
