@@ -285,17 +285,33 @@ pub(crate) fn best_triangulation_above(
         return Some(Vec::new());
     }
     // The tables on the stack for rings up to MAX_RING (every caller's: most calls
-    // are tried and fail, and two allocations per call were a tenth of their cost).
+    // are tried and fail, and two allocations per call were a tenth of their cost),
+    // in small tables for the small rings most calls have (the big ones cost a 4 kB
+    // fill each).
+    const SMALL: usize = 8;
+    if m <= SMALL {
+        let (mut best, mut arg) = ([f64::NEG_INFINITY; SMALL * SMALL], [0usize; SMALL * SMALL]);
+        return triangulation_dp(idx, q, floor, &mut best[..m * m], &mut arg[..m * m]);
+    }
     const STACK: usize = MAX_RING * MAX_RING;
-    let (mut best_stack, mut arg_stack) = ([f64::NEG_INFINITY; STACK], [0usize; STACK]);
-    let (mut best_heap, mut arg_heap);
-    let (best, arg): (&mut [f64], &mut [usize]) = if m <= MAX_RING {
-        (&mut best_stack[..m * m], &mut arg_stack[..m * m])
-    } else {
-        best_heap = vec![f64::NEG_INFINITY; m * m];
-        arg_heap = vec![0usize; m * m];
-        (&mut best_heap, &mut arg_heap)
-    };
+    if m <= MAX_RING {
+        let (mut best, mut arg) = ([f64::NEG_INFINITY; STACK], [0usize; STACK]);
+        return triangulation_dp(idx, q, floor, &mut best[..m * m], &mut arg[..m * m]);
+    }
+    let (mut best, mut arg) = (vec![f64::NEG_INFINITY; m * m], vec![0usize; m * m]);
+    triangulation_dp(idx, q, floor, &mut best, &mut arg)
+}
+
+/// The dynamic program of [`best_triangulation_above`] in the `m x m` tables `best`
+/// (filled with `-inf`) and `arg`.
+fn triangulation_dp(
+    idx: &[usize],
+    q: &impl Fn(usize, usize, usize) -> f64,
+    floor: f64,
+    best: &mut [f64],
+    arg: &mut [usize],
+) -> Option<Vec<[usize; 3]>> {
+    let m = idx.len();
     for i in 0..m - 1 {
         best[i * m + i + 1] = f64::INFINITY;
     }
