@@ -948,19 +948,28 @@ enum Here {
     Missing,
 }
 
-/// Which edges (mesh vertex ids) are in the mesh: from the locks `kept` by an
-/// incremental round (exactly the locked entities still present) and a local look-up
-/// for the others; one sweep over the mesh when there are none.
-fn edges_now(rec: &mut Recovery, edges: &[(u32, u32)]) -> Vec<Here> {
-    let here = |present| {
+impl From<bool> for Here {
+    /// Present or missing (not known to be locked).
+    fn from(present: bool) -> Here {
         if present {
             Here::Present
         } else {
             Here::Missing
         }
-    };
+    }
+}
+
+/// Which edges (mesh vertex ids) are in the mesh: from the locks `kept` by an
+/// incremental round (exactly the locked entities still present) and a local look-up
+/// for the others; one sweep over the mesh when there are none.
+fn edges_now(rec: &mut Recovery, edges: &[(u32, u32)]) -> Vec<Here> {
     if rec.locks.edges.is_empty() {
-        return rec.l.edges_present(edges).into_iter().map(here).collect();
+        return rec
+            .l
+            .edges_present(edges)
+            .into_iter()
+            .map(Here::from)
+            .collect();
     }
     edges
         .iter()
@@ -968,7 +977,7 @@ fn edges_now(rec: &mut Recovery, edges: &[(u32, u32)]) -> Vec<Here> {
             if rec.locks.edge(a, b) {
                 Here::Locked
             } else {
-                here(rec.has_edge(a, b))
+                Here::from(rec.has_edge(a, b))
             }
         })
         .collect()
@@ -982,22 +991,18 @@ fn faces_now(
     since: u32,
     tris: &[[u32; 3]],
 ) -> Vec<Here> {
-    let here = |present| {
-        if present {
-            Here::Present
-        } else {
-            Here::Missing
-        }
-    };
     if kept.is_empty() {
-        return faces_found(&rec.l, tris).into_iter().map(here).collect();
+        return faces_found(&rec.l, tris)
+            .into_iter()
+            .map(Here::from)
+            .collect();
     }
     tris.iter()
         .map(|&f| {
             if !rec.l.stamps.changed_since(&f, since) && kept.contains(&sorted_ids(f)) {
                 Here::Locked
             } else {
-                here(rec.has_face(f[0], f[1], f[2]))
+                Here::from(rec.has_face(f[0], f[1], f[2]))
             }
         })
         .collect()
