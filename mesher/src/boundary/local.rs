@@ -126,10 +126,13 @@ impl Pairing {
 /// changes are tried and undone).
 #[derive(Debug, Default)]
 struct Journal {
-    /// Per change: the ends of its entries in `created`, `replaced` and `stamps`.
+    /// Per change: the ends of its entries in `created`, `replaced` (and `adj`) and
+    /// `stamps`.
     ends: Vec<(u32, u32, u32)>,
     created: Vec<u32>,
     replaced: Vec<[u32; 4]>,
+    /// The neighbours of the replaced tets then (raw face handles).
+    adj: Vec<[u32; 4]>,
     stamps: Vec<(u32, u32)>,
 }
 
@@ -142,6 +145,7 @@ impl Journal {
         self.ends.clear();
         self.created.clear();
         self.replaced.clear();
+        self.adj.clear();
         self.stamps.clear();
     }
 
@@ -165,6 +169,8 @@ impl Journal {
         out.created.extend(self.created.drain(c as usize..));
         out.replaced.clear();
         out.replaced.extend(self.replaced.drain(r as usize..));
+        out.adj.clear();
+        out.adj.extend(self.adj.drain(r as usize..));
         out.stamps.clear();
         out.stamps.extend(self.stamps.drain(s as usize..));
         true
@@ -177,6 +183,7 @@ impl Journal {
 struct Undone {
     created: Vec<u32>,
     replaced: Vec<[u32; 4]>,
+    adj: Vec<[u32; 4]>,
     stamps: Vec<(u32, u32)>,
 }
 
@@ -798,13 +805,56 @@ impl Local {
                 break;
             }
             let was = std::mem::replace(&mut self.journaling, false);
-            // The inverse of a checked change is valid, so this cannot be refused.
-            let r = self.replace_positive(&change.created, &change.replaced);
-            debug_assert!(r.is_ok(), "undo refused: {r:?}");
+            self.restore(&change.created, &change.replaced, &change.adj);
             self.stamps.restore(&change.stamps);
             self.journaling = was;
         }
         self.undone = change;
+    }
+
+    /// The inverse of a journalled change: the tets `replaced` back, with their
+    /// neighbours then (`adj`), in place of the tets `created`. The free slots are a
+    /// stack, so the replaced tets get their own slots back (see [`Local::commit`]),
+    /// and their neighbour handles hold as they were: no face pairing, the same mesh
+    /// as the checked inverse change ([`Local::replace`]) makes.
+    fn restore(&mut self, created: &[u32], replaced: &[[u32; 4]], adj: &[[u32; 4]]) {
+        let mut ids = std::mem::take(&mut self.pairing.ids);
+        ids.clear();
+        ids.extend(created.iter().take(replaced.len()).copied());
+        while ids.len() < replaced.len() {
+            // The slots this change freed are on the free list: no new slot.
+            let Some(t) = self.mesh.alloc_tet() else {
+                debug_assert!(false, "undo found no free slot");
+                break;
+            };
+            ids.push(t);
+        }
+        for &t in created.iter().skip(replaced.len()).rev() {
+            self.mesh.free_tet(t);
+        }
+        for (k, (t, n)) in replaced.iter().zip(adj).enumerate().take(ids.len()) {
+            self.mesh.set_tet(ids[k], *t);
+            for &v in t {
+                if v as usize >= self.v2t.len() {
+                    self.v2t.resize(v as usize + 1, u32::MAX);
+                }
+                self.v2t[v as usize] = ids[k];
+            }
+            for (i, &f) in n.iter().enumerate() {
+                self.mesh
+                    .link(FaceRef::new(TetId(ids[k]), i), FaceRef::from_raw(f));
+            }
+        }
+        if self.validate_ops {
+            if let Err(e) = self.mesh.validate(false) {
+                panic!("undo {created:?} -> {replaced:?} broke the mesh: {e}");
+            }
+        }
+        self.stamps
+            .touch(ids.iter().flat_map(|&t| self.mesh.raw_tet(t)));
+        self.created.clear();
+        self.created.extend_from_slice(&ids);
+        self.pairing.ids = ids;
     }
 
     /// Stops recording and forgets the log.
@@ -839,6 +889,7 @@ impl Local {
             j.created.extend_from_slice(ids);
             let first = j.replaced.len();
             j.replaced.extend(old.iter().map(|&t| self.mesh.raw_tet(t)));
+            j.adj.extend(old.iter().map(|&t| self.mesh.raw_adj(t)));
             let verts = new.iter().chain(&j.replaced[first..]).flatten().copied();
             j.stamps.extend(self.stamps.read(verts));
             j.seal();

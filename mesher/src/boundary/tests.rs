@@ -164,6 +164,15 @@ fn a_long_chain_of_changes_is_undone_exactly_and_leaves_no_stamp() {
     // slots freed at once, then taken again by the undo, in the same order).
     let (mesh, _, _) = delaunay(&icosphere(2), &[], &BoundaryOptions::default()).unwrap();
     let before = tet_set(&mesh);
+    // Slot by slot, with the neighbours: the undo puts every tet back in its own slot
+    // (it relies on that to restore the neighbour handles as they were).
+    let cells = |m: &crate::tetmesh::TetMesh| -> Vec<(u32, [u32; 4], [u32; 4])> {
+        (0..m.num_slots() as u32)
+            .filter(|&t| m.is_alive(crate::tetmesh::TetId(t)))
+            .map(|t| (t, m.raw_tet(t), m.raw_adj(t)))
+            .collect()
+    };
+    let slots = cells(&mesh);
     let mut rec = Recovery::new(Local::new(mesh));
     let clock = rec.l.stamps.clock;
     let verts: Vec<u32> = (8..rec.l.mesh.num_vertices() as u32).collect();
@@ -187,6 +196,7 @@ fn a_long_chain_of_changes_is_undone_exactly_and_leaves_no_stamp() {
     rec.l.forget();
     rec.l.mesh.validate(false).unwrap();
     assert_eq!(tet_set(&rec.l.mesh), before);
+    assert_eq!(cells(&rec.l.mesh), slots);
     let all: Vec<u32> = (0..rec.l.mesh.num_vertices() as u32).collect();
     assert!(!rec.l.stamps.changed_since(&all, clock));
 }
