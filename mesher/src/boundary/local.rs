@@ -819,41 +819,19 @@ impl Local {
     /// as the checked inverse change ([`Local::replace`]) makes.
     fn restore(&mut self, created: &[u32], replaced: &[[u32; 4]], adj: &[[u32; 4]]) {
         let mut ids = std::mem::take(&mut self.pairing.ids);
-        ids.clear();
-        ids.extend(created.iter().take(replaced.len()).copied());
-        while ids.len() < replaced.len() {
-            // The slots this change freed are on the free list: no new slot.
-            let Some(t) = self.mesh.alloc_tet() else {
-                debug_assert!(false, "undo found no free slot");
-                break;
-            };
-            ids.push(t);
-        }
-        for &t in created.iter().skip(replaced.len()).rev() {
-            self.mesh.free_tet(t);
-        }
-        for (k, (t, n)) in replaced.iter().zip(adj).enumerate().take(ids.len()) {
-            self.mesh.set_tet(ids[k], *t);
-            for &v in t {
-                if v as usize >= self.v2t.len() {
-                    self.v2t.resize(v as usize + 1, u32::MAX);
+        // The slots this change freed are on the free list: no new slot is needed.
+        let taken = self.take_slots(created, replaced.len(), &mut ids);
+        debug_assert!(taken, "undo found no free slot");
+        if taken {
+            self.put_tets(created, &ids, replaced);
+            for (&t, n) in ids.iter().zip(adj) {
+                for (i, &f) in n.iter().enumerate() {
+                    self.mesh
+                        .link(FaceRef::new(TetId(t), i), FaceRef::from_raw(f));
                 }
-                self.v2t[v as usize] = ids[k];
             }
-            for (i, &f) in n.iter().enumerate() {
-                self.mesh
-                    .link(FaceRef::new(TetId(ids[k]), i), FaceRef::from_raw(f));
-            }
+            self.changed(&ids, || format!("undo {created:?} -> {replaced:?}"));
         }
-        if self.validate_ops {
-            if let Err(e) = self.mesh.validate(false) {
-                panic!("undo {created:?} -> {replaced:?} broke the mesh: {e}");
-            }
-        }
-        self.stamps
-            .touch(ids.iter().flat_map(|&t| self.mesh.raw_tet(t)));
-        self.created.clear();
-        self.created.extend_from_slice(&ids);
         self.pairing.ids = ids;
     }
 
@@ -870,18 +848,8 @@ impl Local {
         links: &[(usize, usize, Link)],
         ids: &mut Vec<u32>,
     ) -> Result<(), Refused> {
-        ids.clear();
-        ids.extend(old.iter().take(new.len()).copied());
-        while ids.len() < new.len() {
-            match self.mesh.alloc_tet() {
-                Some(t) => ids.push(t),
-                None => {
-                    for &t in ids[old.len().min(ids.len())..].iter().rev() {
-                        self.mesh.free_tet(t);
-                    }
-                    return Err(Refused::Full);
-                }
-            }
+        if !self.take_slots(old, new.len(), ids) {
+            return Err(Refused::Full);
         }
         if self.journaling {
             // The undo stamps the old tets' vertices, the new ones' were stamped now.
@@ -894,22 +862,7 @@ impl Local {
             j.stamps.extend(self.stamps.read(verts));
             j.seal();
         }
-        // Freed in reverse: the free list is a stack, so the inverse change (an undo)
-        // allocates these same slots in the same order, and frees the slots this
-        // change allocates back in the order they were taken. Slot ids then match
-        // the journal however long the chain of undone changes.
-        for &t in old.iter().skip(new.len()).rev() {
-            self.mesh.free_tet(t);
-        }
-        for (k, t) in new.iter().enumerate() {
-            self.mesh.set_tet(ids[k], *t);
-            for &v in t {
-                if v as usize >= self.v2t.len() {
-                    self.v2t.resize(v as usize + 1, u32::MAX);
-                }
-                self.v2t[v as usize] = ids[k];
-            }
-        }
+        self.put_tets(old, ids, new);
         for &(k, i, link) in links {
             let me = FaceRef::new(TetId(ids[k]), i);
             match link {
@@ -917,16 +870,61 @@ impl Local {
                 Link::Inner(k2, i2) => self.mesh.link(me, FaceRef::new(TetId(ids[k2]), i2)),
             }
         }
+        self.changed(ids, || format!("replace {old:?} -> {new:?}"));
+        Ok(())
+    }
+
+    /// The slots of a change from the tets `old` to `n` new ones into `ids`: the old
+    /// ones first, then fresh ones. False (nothing taken) when the mesh is full.
+    fn take_slots(&mut self, old: &[u32], n: usize, ids: &mut Vec<u32>) -> bool {
+        ids.clear();
+        ids.extend(old.iter().take(n).copied());
+        while ids.len() < n {
+            match self.mesh.alloc_tet() {
+                Some(t) => ids.push(t),
+                None => {
+                    for &t in ids[old.len().min(ids.len())..].iter().rev() {
+                        self.mesh.free_tet(t);
+                    }
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
+    /// Frees the slots of `old` that `ids` does not reuse and puts the tets `new` in
+    /// `ids`, with the vertex-to-tet map. Freed in reverse: the free list is a stack,
+    /// so the inverse change (an undo) allocates these same slots in the same order,
+    /// and frees the slots this change allocates back in the order they were taken.
+    /// Slot ids then match the journal however long the chain of undone changes.
+    fn put_tets(&mut self, old: &[u32], ids: &[u32], new: &[[u32; 4]]) {
+        for &t in old.iter().skip(new.len()).rev() {
+            self.mesh.free_tet(t);
+        }
+        for (&id, t) in ids.iter().zip(new) {
+            self.mesh.set_tet(id, *t);
+            for &v in t {
+                if v as usize >= self.v2t.len() {
+                    self.v2t.resize(v as usize + 1, u32::MAX);
+                }
+                self.v2t[v as usize] = id;
+            }
+        }
+    }
+
+    /// After a change that made the tets `ids` (linked): the check of every
+    /// invariant when asked for (`what` names the change), the stamps, `created`.
+    fn changed(&mut self, ids: &[u32], what: impl FnOnce() -> String) {
         if self.validate_ops {
             if let Err(e) = self.mesh.validate(false) {
-                panic!("replace {old:?} -> {new:?} broke the mesh: {e}");
+                panic!("{} broke the mesh: {e}", what());
             }
         }
         self.stamps
             .touch(ids.iter().flat_map(|&t| self.mesh.raw_tet(t)));
         self.created.clear();
         self.created.extend_from_slice(ids);
-        Ok(())
     }
 }
 

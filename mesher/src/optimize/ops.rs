@@ -821,14 +821,14 @@ impl Ops {
         let mean = ideal.iter().copied().sum::<Point>() / faces.len() as f64;
         candidates.extend(mean.is_finite().then_some(mean));
         candidates.extend(ideal.iter().copied().filter(|p| p.is_finite()));
-        let corners: Vec<Point> = faces.iter().flatten().map(|&x| self.l.p(x)).collect();
-        candidates.push(corners.iter().sum::<Point>() / corners.len().max(1) as f64);
+        let face_corners = self.face_points(&faces);
+        let corners = || face_corners.iter().flatten();
+        candidates.push(corners().sum::<Point>() / (3 * faces.len()).max(1) as f64);
         candidates.extend(extra);
         let before = self.worst(cavity);
         // The first candidate with the lowest score. Only a score below both `before`
         // and the best so far can matter, so each evaluation stops once it reaches them.
         let mut best: Option<(f64, Point)> = None;
-        let face_corners = self.face_points(&faces);
         for p in candidates {
             let bound = best.map_or(before, |b| b.0.min(before));
             let s = cone_score_at(&face_corners, p, bound);
@@ -837,9 +837,7 @@ impl Ops {
             }
         }
         let (after, p) = best?;
-        let (lo, hi) = corners
-            .iter()
-            .fold((p, p), |(lo, hi), &c| (lo.min(c), hi.max(c)));
+        let (lo, hi) = corners().fold((p, p), |(lo, hi), &c| (lo.min(c), hi.max(c)));
         Some(Cone {
             faces,
             before,
