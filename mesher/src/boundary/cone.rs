@@ -40,8 +40,8 @@ impl Recovery {
         };
         // The region's boundary faces: those away from the apex become the new tets'
         // bases; those at the apex stay (as faces of the tets outside).
-        let mut new: Vec<[u32; 4]> = Vec::new();
-        let mut at_apex: Vec<[u32; 3]> = Vec::new();
+        let mut new: Vec<[u32; 4]> = Vec::with_capacity(2 * region.len() + 2);
+        let mut at_apex: Vec<[u32; 3]> = Vec::with_capacity(2 * region.len() + 2);
         for &t in &region {
             let v = self.l.tet(t);
             let adj = self.l.adj(t);
@@ -138,12 +138,13 @@ impl Recovery {
         // Grow: only the faces of the tets added last need a look (a face seen from the
         // apex stays seen; it stops being a boundary face only if its far side joins).
         let mut frontier = region.clone();
+        let mut grow = Vec::with_capacity(4 * frontier.len());
         let mut check_at = FIRST_BURIED_CHECK;
         for _ in 0..MAX_GROW {
             if region.len() > MAX_CONE || frontier.iter().any(|&t| self.l.is_ghost(t)) {
                 return None;
             }
-            let mut grow = Vec::new();
+            grow.clear();
             for &t in &frontier {
                 let v = self.l.tet(t);
                 let adj = self.l.adj(t);
@@ -168,7 +169,7 @@ impl Recovery {
                 return (region.len() <= MAX_CONE).then_some(region);
             }
             frontier.clear();
-            for u in grow {
+            for &u in &grow {
                 if self.cone_tets.insert(u) {
                     region.push(u);
                     frontier.push(u);

@@ -336,7 +336,9 @@ fn triangulation_dp(
         return None;
     }
     let mut out = Vec::with_capacity(m - 2);
-    let mut stack = vec![(0, m - 1)];
+    // Each pop pushes two intervals inside the popped one: never more than `m` wait.
+    let mut stack = Vec::with_capacity(m);
+    stack.push((0, m - 1));
     while let Some((i, j)) = stack.pop() {
         if j - i < 2 {
             continue;
@@ -385,7 +387,9 @@ mod tests {
             }
         }
         let mut out = Vec::new();
-        let mut stack = vec![(0, m - 1)];
+        // Each pop pushes two intervals inside the popped one: never more than `m` wait.
+        let mut stack = Vec::with_capacity(m);
+        stack.push((0, m - 1));
         while let Some((i, j)) = stack.pop() {
             if j - i >= 2 {
                 let k = arg[i * m + j];

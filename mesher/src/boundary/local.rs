@@ -473,7 +473,8 @@ impl Local {
             let near = walked
                 .filter(|_| signs.is_some_and(|(_, s)| !s.contains(&Orientation::Positive)))
                 .map(|t| {
-                    let mut near = vec![t];
+                    let mut near = Vec::with_capacity(16);
+                    near.push(t);
                     let mut k = 0;
                     while k < near.len() {
                         let (v, adj) = (self.tet(near[k]), self.adj(near[k]));

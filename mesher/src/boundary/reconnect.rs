@@ -221,7 +221,7 @@ impl Search<'_> {
             return false;
         }
         self.budget -= n;
-        let mut apexes: Vec<(usize, f64, u32)> = Vec::new();
+        let mut apexes: Vec<(usize, f64, u32)> = Vec::with_capacity(n);
         for j in 0..n {
             let v = self.apexes[id][j];
             if let Some(closed) = self.closes(&open, k, v) {

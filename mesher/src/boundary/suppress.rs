@@ -346,7 +346,7 @@ impl Recovery {
         let mut marks = self.grow_marks.borrow_mut();
         marks.clear(self.l.mesh.num_slots());
         let mut added = Added {
-            list: Vec::new(),
+            list: Vec::with_capacity(MAX_SIDE_GROWTH + 1),
             marks,
         };
         // The side's rim first, then the faces of the tets added, in order.

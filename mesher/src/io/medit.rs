@@ -6,7 +6,7 @@
 //! keyword. Indices are 1-based in the file and 0-based in memory. `#` starts a comment.
 
 use super::error::IoError;
-use super::text::{check_indices, IndexLine, Tokens};
+use super::text::{check_indices, IndexLine, NumLine, Tokens};
 use super::{read_bytes, write_with};
 use crate::surface::Surface;
 use crate::volume::VolumeMesh;
@@ -155,8 +155,9 @@ pub fn write_mesh<W: Write>(w: &mut W, m: &VolumeMesh) -> std::io::Result<()> {
         "MeshVersionFormatted 2\n\nDimension 3\n\nVertices\n{}",
         m.vertices.len()
     )?;
+    let mut nums = NumLine::default();
     for p in &m.vertices {
-        writeln!(w, "{:?} {:?} {:?} 0", p.x, p.y, p.z)?;
+        nums.float(p.x).float(p.y).float(p.z).int(0).end(w)?;
     }
     if !m.triangles.is_empty() {
         writeln!(w, "\nTriangles\n{}", m.triangles.len())?;

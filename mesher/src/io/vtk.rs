@@ -8,7 +8,7 @@
 //! with an "unsupported" error.
 
 use super::error::IoError;
-use super::text::Tokens;
+use super::text::{NumLine, Tokens};
 use crate::geom::Point;
 use crate::volume::VolumeMesh;
 use quick_xml::events::{BytesStart, Event};
@@ -42,8 +42,9 @@ pub fn write_vtu<W: Write>(w: &mut W, m: &VolumeMesh) -> std::io::Result<()> {
         m.tets.len()
     )?;
     writeln!(w, "<Points>\n<DataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\" format=\"ascii\">")?;
+    let mut line = NumLine::default();
     for p in &m.vertices {
-        writeln!(w, "{:?} {:?} {:?}", p.x, p.y, p.z)?;
+        line.float(p.x).float(p.y).float(p.z).end(w)?;
     }
     writeln!(w, "</DataArray>\n</Points>\n<Cells>")?;
     writeln!(
@@ -51,21 +52,21 @@ pub fn write_vtu<W: Write>(w: &mut W, m: &VolumeMesh) -> std::io::Result<()> {
         "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">"
     )?;
     for t in &m.tets {
-        writeln!(w, "{} {} {} {}", t[0], t[1], t[2], t[3])?;
+        line.int(t[0]).int(t[1]).int(t[2]).int(t[3]).end(w)?;
     }
     writeln!(
         w,
         "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">"
     )?;
     for i in 1..=m.tets.len() {
-        writeln!(w, "{}", 4 * i)?;
+        line.int(4 * i).end(w)?;
     }
     writeln!(
         w,
         "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">"
     )?;
     for _ in &m.tets {
-        writeln!(w, "10")?;
+        w.write_all(b"10\n")?;
     }
     writeln!(w, "</DataArray>\n</Cells>")?;
     if !m.tet_refs.is_empty() {
@@ -75,7 +76,7 @@ pub fn write_vtu<W: Write>(w: &mut W, m: &VolumeMesh) -> std::io::Result<()> {
             "<DataArray type=\"Int32\" Name=\"region\" format=\"ascii\">"
         )?;
         for i in 0..m.tets.len() {
-            writeln!(w, "{}", m.tet_refs.get(i).copied().unwrap_or(0))?;
+            line.int(m.tet_refs.get(i).copied().unwrap_or(0)).end(w)?;
         }
         writeln!(w, "</DataArray>\n</CellData>")?;
     }
