@@ -353,3 +353,47 @@ impl IndexLine {
         w.write_all(&self.buf)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::NumLine;
+    use proptest::prelude::*;
+
+    fn line(x: f64) -> String {
+        let mut l = NumLine::default();
+        let mut out = Vec::new();
+        l.float(x).int(7u32).end(&mut out).unwrap();
+        String::from_utf8(out).unwrap()
+    }
+
+    #[test]
+    fn floats_are_written_as_debug_writes_them() {
+        for x in [
+            0.0,
+            -0.0,
+            1.0,
+            -2.5,
+            1e-4,
+            9.999e-5,
+            1e-5,
+            1e7,
+            1e16,
+            0.1 + 0.2,
+            f64::NAN,
+        ] {
+            assert_eq!(line(x), format!("{x:?} 7\n"));
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn any_float_reads_back_and_matches_debug(bits in any::<u64>(), m in -50.0f64..50.0, e in -6i32..9) {
+            for x in [f64::from_bits(bits), m * 10f64.powi(e)] {
+                let text = line(x);
+                prop_assert_eq!(&text, &format!("{x:?} 7\n"));
+                let back: f64 = text.split(' ').next().unwrap().parse().unwrap();
+                prop_assert!(back.to_bits() == x.to_bits() || x.is_nan() && back.is_nan());
+            }
+        }
+    }
+}
