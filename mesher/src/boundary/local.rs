@@ -654,9 +654,20 @@ impl Local {
         let mut out = vec![[u32::MAX; 4]; self.mesh.num_slots()];
         for t in self.mesh.finite_tets() {
             let v = self.tet(t.0);
+            let adj = self.adj(t.0);
             for (i, f) in FACE_VERTICES.iter().enumerate() {
+                // A face shared by two finite tets is looked up once, from the lower.
+                let nb = FaceRef::from_raw(adj[i]);
+                let u = nb.tet().0;
+                let finite = !self.is_ghost(u);
+                if finite && u < t.0 {
+                    continue;
+                }
                 if let Some(k) = by_min.find(f.map(|j| v[j])) {
                     out[t.index()][i] = k;
+                    if finite {
+                        out[u as usize][nb.facet()] = k;
+                    }
                 }
             }
         }

@@ -159,6 +159,7 @@ impl Recovery {
             budget,
             tets: Vec::new(),
             faces: Vec::new(),
+            boxes: Vec::new(),
             apexes: Vec::new(),
         };
         let ids: Vec<u32> = open.iter().map(|&f| search.face(f)).collect();
@@ -175,6 +176,8 @@ struct Search<'a> {
     budget: usize,
     tets: Vec<[u32; 4]>,
     faces: Vec<[u32; 3]>,
+    /// Each face's bounding box (corner min, corner max).
+    boxes: Vec<(Point, Point)>,
     apexes: Vec<Vec<u32>>,
 }
 
@@ -195,6 +198,9 @@ impl Search<'_> {
             .copied()
             .filter(|&v| !f.contains(&v) && self.positive(f, v))
             .collect();
+        let fp = f.map(|x| self.p(x));
+        self.boxes
+            .push((fp[0].min(fp[1]).min(fp[2]), fp[0].max(fp[1]).max(fp[2])));
         self.faces.push(f);
         self.apexes.push(apexes);
         (self.faces.len() - 1) as u32
@@ -279,10 +285,11 @@ impl Search<'_> {
         let t = [f[0], f[1], f[2], v];
         let mut closed = 0;
         for (j, &hid) in open.iter().enumerate() {
-            if j == k {
+            let h = self.faces[hid as usize];
+            // The tet's new faces all hold `v`, and the base face `k` is not one.
+            if j == k || !h.contains(&v) {
                 continue;
             }
-            let h = self.faces[hid as usize];
             if let Some(fv) = FACE_VERTICES[..3]
                 .iter()
                 .find(|fv| same_set(h, fv.map(|i| t[i])))
@@ -323,10 +330,11 @@ impl Search<'_> {
         open.iter().enumerate().all(|(j, &hid)| {
             let h = self.faces[hid as usize];
             j == k
-                || FACE_VERTICES[..3]
-                    .iter()
-                    .any(|fv| same_set(h, fv.map(|i| t[i])))
-                || !self.meets(t, &tp, (lo, hi), h)
+                || h.contains(&v)
+                    && FACE_VERTICES[..3]
+                        .iter()
+                        .any(|fv| same_set(h, fv.map(|i| t[i])))
+                || !self.meets(t, &tp, (lo, hi), hid)
         })
     }
 
@@ -339,12 +347,13 @@ impl Search<'_> {
 
     /// Whether face `h` meets tet `t` (points `tp`, bounding box `bb`) anywhere but
     /// where they share vertices.
-    fn meets(&self, t: [u32; 4], tp: &[Point; 4], bb: (Point, Point), h: [u32; 3]) -> bool {
-        let hp = h.map(|x| self.p(x));
-        let (hlo, hhi) = (hp[0].min(hp[1]).min(hp[2]), hp[0].max(hp[1]).max(hp[2]));
+    fn meets(&self, t: [u32; 4], tp: &[Point; 4], bb: (Point, Point), hid: u32) -> bool {
+        let (hlo, hhi) = self.boxes[hid as usize];
         if hlo.cmpgt(bb.1).any() || hhi.cmplt(bb.0).any() {
             return false;
         }
+        let h = self.faces[hid as usize];
+        let hp = h.map(|x| self.p(x));
         // A separating plane: `h` outside one of the tet's face planes, or the tet
         // behind `h`'s plane (but for the vertices on it): they can only touch where
         // they share vertices.

@@ -115,6 +115,13 @@ pub fn orient3d(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> Orientation {
     // Fast path: the determinant of the differences to `a`, with a semi-static error
     // bound. Falls back to the adaptive exact evaluation.
     let (det, ba, ca, da) = orient3d_det(a, b, c, d);
+    orient3d_semi(det, [ba, ca, da], [a, b, c, d])
+}
+
+/// [`orient3d`] from its determinant `det` and the differences `b - a`, `c - a`,
+/// `d - a` ([`orient3d_det`]), as a caller whose own filter failed has them.
+#[inline]
+fn orient3d_semi(det: f64, [ba, ca, da]: [DVec3; 3], [a, b, c, d]: [DVec3; 4]) -> Orientation {
     let mx = ba.x.abs().max(ca.x.abs()).max(da.x.abs());
     let my = ba.y.abs().max(ca.y.abs()).max(da.y.abs());
     let mz = ba.z.abs().max(ca.z.abs()).max(da.z.abs());
@@ -242,7 +249,14 @@ pub fn on_open_segment(a: DVec3, b: DVec3, p: DVec3) -> bool {
 /// flat.
 #[inline]
 pub fn insphere(a: DVec3, b: DVec3, c: DVec3, d: DVec3, e: DVec3) -> Sphere {
-    let (det, [ae, be, ce, de]) = insphere_det(a, b, c, d, e);
+    let (det, diffs) = insphere_det(a, b, c, d, e);
+    insphere_semi(det, diffs, [a, b, c, d, e])
+}
+
+/// [`insphere`] from its determinant `det` and the differences to `e`
+/// ([`insphere_det`]), as a caller whose own filter failed has them.
+#[inline]
+fn insphere_semi(det: f64, [ae, be, ce, de]: [DVec3; 4], [a, b, c, d, e]: [DVec3; 5]) -> Sphere {
     let mx = ae.x.abs().max(be.x.abs()).max(ce.x.abs()).max(de.x.abs());
     let my = ae.y.abs().max(be.y.abs()).max(ce.y.abs()).max(de.y.abs());
     let mz = ae.z.abs().max(be.z.abs()).max(ce.z.abs()).max(de.z.abs());
@@ -388,26 +402,31 @@ impl StaticFilter {
     /// [`orient3d`] for points in the box.
     #[inline]
     pub fn orient3d(&self, a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> Orientation {
-        let (det, ..) = orient3d_det(a, b, c, d);
+        let (det, ba, ca, da) = orient3d_det(a, b, c, d);
         if det > self.o3d {
             Orientation::Positive
         } else if -det > self.o3d {
             Orientation::Negative
         } else {
-            orient3d(a, b, c, d)
+            // The same determinant: the semi-static filter goes on from it.
+            orient3d_semi(det, [ba, ca, da], [a, b, c, d])
         }
     }
 
     /// [`insphere_perturbed`] for points in the box.
     #[inline]
     pub fn insphere_perturbed(&self, a: DVec3, b: DVec3, c: DVec3, d: DVec3, e: DVec3) -> Sphere {
-        let (det, _) = insphere_det(a, b, c, d, e);
+        let (det, diffs) = insphere_det(a, b, c, d, e);
         if det > self.isp {
             Sphere::Outside
         } else if -det > self.isp {
             Sphere::Inside
         } else {
-            insphere_perturbed(a, b, c, d, e)
+            // The same determinant: the semi-static filter goes on from it.
+            match insphere_semi(det, diffs, [a, b, c, d, e]) {
+                Sphere::On => insphere_tie_break(a, b, c, d, e),
+                s => s,
+            }
         }
     }
 }
