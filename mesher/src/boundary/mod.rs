@@ -858,6 +858,7 @@ fn recover_all(
     let mut missing_faces = 0;
     let mesh_tris: Vec<[u32; 3]> = surface.triangles.iter().map(|t| t.map(m)).collect();
     let found = faces_now(rec, &kept_faces, since, &mesh_tris);
+    let looked_up = rec.l.stamps.clock;
     // Kept faces the edges' flips took away are dropped, the others stay.
     for (k, f) in mesh_tris.iter().enumerate() {
         if found[k] == Here::Missing {
@@ -927,11 +928,10 @@ fn recover_all(
     stuck.extend(pending.iter().map(|&k| Entity::Face(k)));
     if stuck.is_empty() {
         // Safety net: every input triangle must be a face now.
-        let found = faces_found(&rec.l, &mesh_tris);
         stuck.extend(
-            (0..found.len())
-                .filter(|&k| !found[k])
-                .map(|k| Entity::Face(k as u32)),
+            faces_lost(rec, &mesh_tris, looked_up)
+                .into_iter()
+                .map(Entity::Face),
         );
     }
     // Faces skipped because an edge is stuck are covered by that edge's entry.
@@ -1017,6 +1017,29 @@ fn faces_found(l: &Local, tris: &[[u32; 3]]) -> Vec<bool> {
         }
     }
     found
+}
+
+/// The triangles (mesh vertex ids) that are not faces of the mesh, when every one was
+/// either a face or stuck at the clock `looked_up` ([`faces_now`]): only those with a
+/// vertex whose tets changed since are looked up again (one sweep over the mesh when
+/// they are many).
+fn faces_lost(rec: &mut Recovery, tris: &[[u32; 3]], looked_up: u32) -> Vec<u32> {
+    let changed: Vec<u32> = (0..tris.len() as u32)
+        .filter(|&k| rec.l.stamps.changed_since(&tris[k as usize], looked_up))
+        .collect();
+    if changed.len() > tris.len() / 8 {
+        let found = faces_found(&rec.l, tris);
+        return (0..tris.len() as u32)
+            .filter(|&k| !found[k as usize])
+            .collect();
+    }
+    changed
+        .into_iter()
+        .filter(|&k| {
+            let f = tris[k as usize];
+            !rec.has_face(f[0], f[1], f[2])
+        })
+        .collect()
 }
 
 fn lock_edge(rec: &mut Recovery, a: u32, b: u32) {
