@@ -65,15 +65,19 @@ fn read_face(l: &mut Tokens, nv: usize, out: &mut Vec<[u32; 3]>) -> Result<(), I
     if k < 3 {
         return Err(l.error(format!("a face needs at least 3 vertices, found {k}")));
     }
-    let mut idx = Vec::with_capacity(k.min(64));
+    // The fan from the first vertex, built as the indices come.
+    let (mut first, mut prev) = (0, 0);
     for found in 0..k {
-        if l.peek().is_none() {
+        let Some(t) = l.next_token() else {
             return Err(l.error(format!("expected {k} vertex indices, found {found}")));
+        };
+        let i = l.index_of(t, "face", 0, Some(nv))?;
+        match found {
+            0 => first = i,
+            1 => {}
+            _ => out.push([first, prev, i]),
         }
-        idx.push(l.index("face", 0, Some(nv))?);
-    }
-    for w in 1..k - 1 {
-        out.push([idx[0], idx[w], idx[w + 1]]);
+        prev = i;
     }
     Ok(())
 }

@@ -49,6 +49,56 @@ impl<'a> Tokens<'a> {
 
     /// The next token, or `None` at the end.
     pub(crate) fn next_token(&mut self) -> Option<&'a str> {
+        // ASCII text byte by byte (the same tokens: ASCII whitespace is exactly what
+        // `char::is_whitespace` accepts below 0x80); any other byte, the general path.
+        let bytes = self.rest.as_bytes();
+        let comment = match self.comment {
+            Some(c) if c.is_ascii() => Some(c as u8),
+            Some(_) => return self.next_token_chars(),
+            None => None,
+        };
+        let mut i = 0;
+        loop {
+            match bytes.get(i) {
+                None => {
+                    self.rest = "";
+                    return None;
+                }
+                Some(b'\n') => self.line += 1,
+                Some(b' ' | b'\t' | b'\r' | 0x0b | 0x0c) => {}
+                Some(&b) if b >= 0x80 => {
+                    self.rest = &self.rest[i..];
+                    return self.next_token_chars();
+                }
+                Some(&b) if Some(b) == comment => {
+                    let end = bytes[i..].iter().position(|&c| c == b'\n');
+                    i = end.map_or(bytes.len(), |e| i + e);
+                    continue;
+                }
+                Some(_) => break,
+            }
+            i += 1;
+        }
+        let start = i;
+        while let Some(&b) = bytes.get(i) {
+            if b >= 0x80 {
+                self.rest = &self.rest[start..];
+                return self.next_token_chars();
+            }
+            if matches!(b, b' ' | b'\t' | b'\n' | b'\r' | 0x0b | 0x0c) || Some(b) == comment {
+                break;
+            }
+            i += 1;
+        }
+        // Both ends sit at ASCII bytes: char boundaries.
+        let tok = &self.rest[start..i];
+        self.rest = &self.rest[i..];
+        self.tok_line = self.line;
+        Some(tok)
+    }
+
+    /// [`Tokens::next_token`] by chars (any Unicode whitespace separates tokens).
+    fn next_token_chars(&mut self) -> Option<&'a str> {
         loop {
             let trimmed = self
                 .rest
@@ -170,7 +220,21 @@ impl<'a> Tokens<'a> {
         base: i64,
         n: Option<usize>,
     ) -> Result<u32, IoError> {
-        let raw = self.i64("vertex index")?;
+        let t = self.expect("vertex index")?;
+        self.index_of(t, elem, base, n)
+    }
+
+    /// [`Tokens::index`] of the token `t` just read.
+    pub(crate) fn index_of(
+        &self,
+        t: &str,
+        elem: &str,
+        base: i64,
+        n: Option<usize>,
+    ) -> Result<u32, IoError> {
+        let raw = t
+            .parse::<i64>()
+            .map_err(|_| self.error(format!("expected vertex index (an integer), found '{t}'")))?;
         to_index(raw, base, n).map_err(|m| self.error(format!("{elem} {m}")))
     }
 
@@ -210,7 +274,8 @@ pub(crate) fn to_index(raw: i64, base: i64, n: Option<usize>) -> Result<u32, Str
 /// given, lines that hold only a comment. Each line is returned as its own token stream.
 pub(crate) struct Lines<'a> {
     file: &'a str,
-    iter: std::iter::Enumerate<std::str::Lines<'a>>,
+    /// The text after the lines returned so far.
+    rest: &'a str,
     comment: Option<char>,
     last: usize,
 }
@@ -220,17 +285,35 @@ impl<'a> Lines<'a> {
     pub(crate) fn new(file: &'a str, text: &'a str, comment: Option<char>) -> Lines<'a> {
         Lines {
             file,
-            iter: text.lines().enumerate(),
+            rest: text,
             comment,
             last: 0,
         }
     }
 
+    /// The next line as `str::lines` splits them (at `\n` or `\r\n`; no empty last
+    /// line), by a byte search.
+    fn next_raw(&mut self) -> Option<&'a str> {
+        if self.rest.is_empty() {
+            return None;
+        }
+        let bytes = self.rest.as_bytes();
+        let line = match bytes.iter().position(|&b| b == b'\n') {
+            Some(e) => {
+                let line = &self.rest[..e];
+                self.rest = &self.rest[e + 1..];
+                line.strip_suffix('\r').unwrap_or(line)
+            }
+            None => std::mem::take(&mut self.rest),
+        };
+        Some(line)
+    }
+
     /// The next non-blank line as tokens, or `None` at the end of the text.
     pub(crate) fn next_line(&mut self) -> Option<Tokens<'a>> {
-        for (i, text) in self.iter.by_ref() {
-            self.last = i + 1;
-            let t = Tokens::starting_at(self.file, text, i + 1, self.comment, "line");
+        while let Some(text) = self.next_raw() {
+            self.last += 1;
+            let t = Tokens::starting_at(self.file, text, self.last, self.comment, "line");
             if t.peek().is_some() {
                 return Some(t);
             }
@@ -356,7 +439,7 @@ impl IndexLine {
 
 #[cfg(test)]
 mod tests {
-    use super::NumLine;
+    use super::{Lines, NumLine, Tokens};
     use proptest::prelude::*;
 
     fn line(x: f64) -> String {
@@ -364,6 +447,51 @@ mod tests {
         let mut out = Vec::new();
         l.float(x).int(7u32).end(&mut out).unwrap();
         String::from_utf8(out).unwrap()
+    }
+
+    /// The byte tokenizer and line splitter give what `str::lines` and the char
+    /// tokenizer give, line numbers included.
+    #[test]
+    fn tokens_and_lines_match_the_char_path() {
+        let texts = [
+            "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+            "a b\r\n\r\n  # comment\nc\td\x0be\x0cf\r\ng\r",
+            "x\u{a0}y  é z\n\n\nw#c\nv",
+            "",
+            "\n\n",
+            "tail # only",
+        ];
+        for text in texts {
+            for comment in [None, Some('#')] {
+                let mut fast = Tokens::new("f", text, comment);
+                let mut slow = Tokens::new("f", text, comment);
+                loop {
+                    let a = fast.next_token();
+                    let b = slow.next_token_chars();
+                    assert_eq!(a, b, "{text:?}");
+                    assert_eq!(fast.line, slow.line, "{text:?}");
+                    assert_eq!(fast.tok_line, slow.tok_line, "{text:?}");
+                    if a.is_none() {
+                        break;
+                    }
+                }
+                let mut lines = Lines::new("f", text, comment);
+                let mut got = Vec::new();
+                while let Some(mut t) = lines.next_line() {
+                    got.push((t.tok_line, t.next_token().map(String::from)));
+                }
+                let want: Vec<_> = text
+                    .lines()
+                    .enumerate()
+                    .filter_map(|(i, l)| {
+                        let mut t = Tokens::starting_at("f", l, i + 1, comment, "line");
+                        t.next_token_chars()
+                            .map(|tok| (i + 1, Some(tok.to_string())))
+                    })
+                    .collect();
+                assert_eq!(got, want, "{text:?}");
+            }
+        }
     }
 
     #[test]
