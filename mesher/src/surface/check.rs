@@ -18,10 +18,11 @@
 //! [`PAIR_BUDGET`] is exhausted.
 
 use super::bvh::{Box3, Bvh};
-use super::intersect::faces_intersect;
+use super::intersect::{faces_intersect, faces_intersect_in};
 use super::report::{CheckReport, IntersectingPair, SelfIntersections, MAX_PAIRS, PAIR_BUDGET};
 use super::topology::{self, face_ref, sorted_ids, FaceStatus};
 use super::{shells, Surface};
+use crate::geom::predicates::StaticFilter;
 use crate::geom::Point;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -110,13 +111,20 @@ fn self_intersections(s: &Surface, st: &FaceStatus) -> SelfIntersections {
             items.push((f as u32, b));
         }
     }
+    // Every corner tested lies in the box of the boxes: a static filter holds for them.
+    let (lo, hi) = items.iter().fold(
+        (Point::splat(f64::INFINITY), Point::splat(f64::NEG_INFINITY)),
+        |(lo, hi), (_, b)| (lo.min(b.min.into()), hi.max(b.max.into())),
+    );
+    let filter = StaticFilter::new(lo, hi);
     let bvh = Bvh::build(items);
     let used = AtomicU64::new(0);
     let stop = AtomicBool::new(false);
     let n = bvh.len();
+    let range = |c: usize| c * CHUNK..n.min((c + 1) * CHUNK);
     let total = (0..n.div_ceil(CHUNK))
         .into_par_iter()
-        .map(|c| scan_faces(s, &bvh, c * CHUNK..n.min((c + 1) * CHUNK), &used, &stop))
+        .map(|c| scan_faces(s, &bvh, &filter, range(c), &used, &stop))
         .reduce(Partial::default, Partial::merge);
     SelfIntersections {
         count: total.count,
@@ -138,6 +146,7 @@ fn self_intersections(s: &Surface, st: &FaceStatus) -> SelfIntersections {
 fn scan_faces(
     s: &Surface,
     bvh: &Bvh,
+    filter: &StaticFilter,
     range: std::ops::Range<usize>,
     used: &AtomicU64,
     stop: &AtomicBool,
@@ -159,7 +168,7 @@ fn scan_faces(
                 return;
             }
             let pg = tg.map(|v| s.vertices[v as usize]);
-            if faces_intersect(&pf, tf, &pg, tg) {
+            if faces_intersect_in(filter, &pf, tf, &pg, tg) {
                 part.count += 1;
                 part.pairs.push((f.min(g), f.max(g)));
             }

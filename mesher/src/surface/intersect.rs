@@ -27,7 +27,7 @@
 //! Degenerate (collinear) triangles are reported separately by the checker and are
 //! never considered to intersect anything here.
 
-use crate::geom::predicates::{orient2d, orient3d, Orientation};
+use crate::geom::predicates::{orient2d, orient3d, Orientation, StaticFilter};
 use crate::geom::Point;
 use Orientation::{Negative, Positive, Zero};
 
@@ -92,7 +92,14 @@ fn segment_triangle_2d(a: [f64; 2], b: [f64; 2], t: &[[f64; 2]; 3]) -> bool {
 
 /// Closed segment `[a, b]` meets closed triangle `t`, given the exact sides `sa`, `sb`
 /// of `a` and `b` with respect to the plane of `t` (`orient3d(t0, t1, t2, .)`).
-fn segment_triangle(a: Point, b: Point, sa: Orientation, sb: Orientation, t: &[Point; 3]) -> bool {
+fn segment_triangle(
+    f: &StaticFilter,
+    a: Point,
+    b: Point,
+    sa: Orientation,
+    sb: Orientation,
+    t: &[Point; 3],
+) -> bool {
     match (sa, sb) {
         (Zero, Zero) => match projection_axis(t) {
             Some(ax) => segment_triangle_2d(
@@ -108,7 +115,7 @@ fn segment_triangle(a: Point, b: Point, sa: Orientation, sb: Orientation, t: &[P
             let mut pos = false;
             let mut neg = false;
             for i in 0..3 {
-                match orient3d(a, b, t[i], t[(i + 1) % 3]) {
+                match f.orient3d(a, b, t[i], t[(i + 1) % 3]) {
                     Positive => pos = true,
                     Negative => neg = true,
                     Zero => {}
@@ -121,11 +128,11 @@ fn segment_triangle(a: Point, b: Point, sa: Orientation, sb: Orientation, t: &[P
 
 /// Exact sides of the three points of `q` with respect to the plane of `p`.
 #[inline]
-fn sides(p: &[Point; 3], q: &[Point; 3]) -> [Orientation; 3] {
+fn sides(f: &StaticFilter, p: &[Point; 3], q: &[Point; 3]) -> [Orientation; 3] {
     [
-        orient3d(p[0], p[1], p[2], q[0]),
-        orient3d(p[0], p[1], p[2], q[1]),
-        orient3d(p[0], p[1], p[2], q[2]),
+        f.orient3d(p[0], p[1], p[2], q[0]),
+        f.orient3d(p[0], p[1], p[2], q[1]),
+        f.orient3d(p[0], p[1], p[2], q[2]),
     ]
 }
 
@@ -138,21 +145,26 @@ fn strictly_one_side(s: &[Orientation; 3]) -> bool {
 /// Whether the closed triangles `p` and `q` have a common point. Collinear triangles
 /// never intersect (see the module docs).
 pub fn triangles_intersect(p: &[Point; 3], q: &[Point; 3]) -> bool {
+    triangles_intersect_in(&StaticFilter::none(), p, q)
+}
+
+/// [`triangles_intersect`] with the static filter `f`, valid for every point given.
+fn triangles_intersect_in(f: &StaticFilter, p: &[Point; 3], q: &[Point; 3]) -> bool {
     if projection_axis(p).is_none() || projection_axis(q).is_none() {
         return false;
     }
-    let sq = sides(p, q);
+    let sq = sides(f, p, q);
     if strictly_one_side(&sq) {
         return false;
     }
-    let sp = sides(q, p);
+    let sp = sides(f, q, p);
     if strictly_one_side(&sp) {
         return false;
     }
     (0..3).any(|i| {
         let j = (i + 1) % 3;
-        segment_triangle(q[i], q[j], sq[i], sq[j], p)
-            || segment_triangle(p[i], p[j], sp[i], sp[j], q)
+        segment_triangle(f, q[i], q[j], sq[i], sq[j], p)
+            || segment_triangle(f, p[i], p[j], sp[i], sp[j], q)
     })
 }
 
@@ -160,6 +172,18 @@ pub fn triangles_intersect(p: &[Point; 3], q: &[Point; 3]) -> bool {
 /// except along the vertices or edge they share by index. Faces with a repeated index or
 /// collinear points never intersect here; faces with the same three ids always do.
 pub fn faces_intersect(p: &[Point; 3], ip: [u32; 3], q: &[Point; 3], iq: [u32; 3]) -> bool {
+    faces_intersect_in(&StaticFilter::none(), p, ip, q, iq)
+}
+
+/// [`faces_intersect`] with the static filter `f`, valid for every point given (the
+/// surface check's: its vertices' box).
+pub(crate) fn faces_intersect_in(
+    f: &StaticFilter,
+    p: &[Point; 3],
+    ip: [u32; 3],
+    q: &[Point; 3],
+    iq: [u32; 3],
+) -> bool {
     if ip[0] == ip[1] || ip[1] == ip[2] || ip[0] == ip[2] {
         return false;
     }
@@ -172,37 +196,37 @@ pub fn faces_intersect(p: &[Point; 3], ip: [u32; 3], q: &[Point; 3], iq: [u32; 3
     // shared[i] = position in q of p's vertex i.
     let shared: [Option<usize>; 3] = [0, 1, 2].map(|i| iq.iter().position(|&x| x == ip[i]));
     match shared.iter().filter(|s| s.is_some()).count() {
-        0 => triangles_intersect(p, q),
+        0 => triangles_intersect_in(f, p, q),
         1 => {
             let i = shared.iter().position(|s| s.is_some()).unwrap_or(0);
             let j = shared[i].unwrap_or(0);
-            opposite_edge_meets(p, i, q) || opposite_edge_meets(q, j, p)
+            opposite_edge_meets(f, p, i, q) || opposite_edge_meets(f, q, j, p)
         }
         2 => {
             let k = shared.iter().position(|s| s.is_none()).unwrap_or(0);
             let m = (0..3).find(|&m| !ip.contains(&iq[m])).unwrap_or(0);
-            folded_on_shared_edge(p, k, q[m])
+            folded_on_shared_edge(f, p, k, q[m])
         }
         _ => true,
     }
 }
 
 /// The edge of `p` opposite to its vertex `i` meets triangle `q`.
-fn opposite_edge_meets(p: &[Point; 3], i: usize, q: &[Point; 3]) -> bool {
+fn opposite_edge_meets(f: &StaticFilter, p: &[Point; 3], i: usize, q: &[Point; 3]) -> bool {
     let a = p[(i + 1) % 3];
     let b = p[(i + 2) % 3];
-    let sa = orient3d(q[0], q[1], q[2], a);
-    let sb = orient3d(q[0], q[1], q[2], b);
-    segment_triangle(a, b, sa, sb, q)
+    let sa = f.orient3d(q[0], q[1], q[2], a);
+    let sb = f.orient3d(q[0], q[1], q[2], b);
+    segment_triangle(f, a, b, sa, sb, q)
 }
 
 /// Face `p` and the face made of `p`'s edge opposite to vertex `k` plus apex `b` overlap
 /// beyond that edge: coplanar and `b` on the same side as `p[k]`.
-fn folded_on_shared_edge(p: &[Point; 3], k: usize, b: Point) -> bool {
+fn folded_on_shared_edge(f: &StaticFilter, p: &[Point; 3], k: usize, b: Point) -> bool {
     let u = p[(k + 1) % 3];
     let v = p[(k + 2) % 3];
     let a = p[k];
-    if orient3d(u, v, a, b) != Zero {
+    if f.orient3d(u, v, a, b) != Zero {
         return false;
     }
     match projection_axis(p) {
@@ -234,7 +258,7 @@ pub(crate) fn segment_crossing(p: Point, q: Point, t: &[Point; 3]) -> Crossing {
     let sp = orient3d(t[0], t[1], t[2], p);
     let sq = orient3d(t[0], t[1], t[2], q);
     if sp == Zero && sq == Zero {
-        return if segment_triangle(p, q, sp, sq, t) {
+        return if segment_triangle(&StaticFilter::none(), p, q, sp, sq, t) {
             Crossing::Degenerate
         } else {
             Crossing::Miss
