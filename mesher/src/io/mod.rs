@@ -116,7 +116,7 @@ pub fn parse_surface_unwelded(
     Ok(match format {
         SurfaceFormat::Stl => stl::parse(name, bytes)?,
         _ => {
-            let text = String::from_utf8_lossy(bytes);
+            let text = text::utf8_text(bytes);
             match format {
                 SurfaceFormat::Obj => obj::parse(name, &text)?,
                 SurfaceFormat::Off => off::parse(name, &text)?,

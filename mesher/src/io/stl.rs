@@ -16,7 +16,7 @@ pub fn parse(name: &str, bytes: &[u8]) -> Result<Surface, IoError> {
     if let Some(n) = binary_count(bytes) {
         return parse_binary(name, bytes, n);
     }
-    let text = String::from_utf8_lossy(bytes);
+    let text = super::text::utf8_text(bytes);
     let start = text.trim_start().get(..5).unwrap_or("");
     if !start.eq_ignore_ascii_case("solid") {
         let expected = match bytes.get(80..84) {

@@ -3,6 +3,15 @@
 
 use super::error::IoError;
 
+/// The text of `bytes`, invalid UTF-8 replaced (`String::from_utf8_lossy`), after the
+/// faster check that it is valid (almost always: no copy, a third of the time).
+pub(crate) fn utf8_text(bytes: &[u8]) -> std::borrow::Cow<'_, str> {
+    match std::str::from_utf8(bytes) {
+        Ok(s) => std::borrow::Cow::Borrowed(s),
+        Err(_) => String::from_utf8_lossy(bytes),
+    }
+}
+
 /// A stream of whitespace-separated tokens over a text (a whole file or a single line),
 /// tracking the line of each token.
 #[derive(Clone)]
