@@ -6,8 +6,8 @@
 //! improvement and its implementation based on advancing front technique", IJNME 2009,
 //! and Shewchuk, "Two discrete optimization algorithms for the topological improvement
 //! of tetrahedral meshes", 2002). When the star has none (a twisted, Schönhardt-like
-//! star), edges of its link are removed one after another (each with one level of
-//! preparatory removals, [`LINK_FLIP_DEPTH`]), each followed by the search again.
+//! star), edges of its link are removed one after another, each followed by the
+//! search again.
 //!
 //! The search keeps the faces still open (the boundary of the part not yet filled,
 //! each oriented towards that part, with the vertices in front of it). It takes the
@@ -21,8 +21,7 @@
 //! Measured (boundary mesh, interior Steiner points left / seconds): cheese 26 -> 16,
 //! 0.39 -> 0.45 s; turbine 7 -> 5; anchor 21 -> 16; hinge 2 -> 1; box-with-hole stays
 //! at 5 (its twisted prisms between the top face and the hole's wall need a chain of
-//! flips outside the star that this does not find). The preparatory level of the link
-//! flips then: cheese 16 -> 13, turbine 5 -> 3, box-with-hole 5 -> 4.
+//! flips outside the star that this does not find).
 
 use super::flips::{self, Choice};
 use super::local::GHOST;
@@ -44,14 +43,6 @@ const MAX_FACES: usize = 160;
 
 /// Link edge removals tried at a Steiner point before its removal is given up.
 const MAX_LINK_FLIPS: usize = 8;
-
-/// Levels of preparatory removals ([`Recovery::remove_deep`]) for a link edge. Level 1
-/// (one edge from an end of the link edge removed first, undone when the link edge
-/// still cannot go) leaves fewer interior Steiner points than level 0: cheese 16 -> 13,
-/// turbine 5 -> 3, box-with-hole 5 -> 4, the rest of the boundary sweep unchanged, for
-/// turbine -0.6 %, cheese +2.7 % and box-with-hole +20 % instructions; level 2 takes
-/// cheese to 14 only.
-const LINK_FLIP_DEPTH: usize = 1;
 
 impl Recovery {
     /// Removes the interior Steiner point `s` by re-tetrahedralising its star without
@@ -88,7 +79,7 @@ impl Recovery {
             let removed = self
                 .free_link_edges(s, &star)
                 .into_iter()
-                .any(|(x, y)| self.remove_deep(x, y, Choice::Best, LINK_FLIP_DEPTH));
+                .any(|(x, y)| self.remove_deep(x, y, Choice::Best, 0));
             self.l.forget();
             if !removed {
                 return false;
