@@ -345,8 +345,8 @@ impl Search<'_> {
         })
     }
 
-    /// Whether face `h` meets tet `t` (points `tp`, bounding box `bb`) anywhere but
-    /// where they share vertices.
+    /// Whether the arena's face `hid` meets tet `t` (points `tp`, bounding box `bb`)
+    /// anywhere but where they share vertices.
     fn meets(&self, t: [u32; 4], tp: &[Point; 4], bb: (Point, Point), hid: u32) -> bool {
         let (hlo, hhi) = self.boxes[hid as usize];
         if hlo.cmpgt(bb.1).any() || hhi.cmplt(bb.0).any() {

@@ -6,7 +6,7 @@
 //! keyword. Indices are 1-based in the file and 0-based in memory. `#` starts a comment.
 
 use super::error::IoError;
-use super::text::{check_indices, IndexLine, NumLine, Tokens};
+use super::text::{check_indices, NumLine, Tokens};
 use super::{read_bytes, write_with};
 use crate::surface::Surface;
 use crate::volume::VolumeMesh;
@@ -161,17 +161,15 @@ pub fn write_mesh<W: Write>(w: &mut W, m: &VolumeMesh) -> std::io::Result<()> {
     }
     if !m.triangles.is_empty() {
         writeln!(w, "\nTriangles\n{}", m.triangles.len())?;
-        let mut line = IndexLine::default();
         for (i, t) in m.triangles.iter().enumerate() {
             let r = m.triangle_refs.get(i).copied().unwrap_or(0);
-            line.write(w, t, 1, r)?;
+            nums.ids(t, 1).int(r).end(w)?;
         }
     }
     writeln!(w, "\nTetrahedra\n{}", m.tets.len())?;
-    let mut line = IndexLine::default();
     for (i, t) in m.tets.iter().enumerate() {
         let r = m.tet_refs.get(i).copied().unwrap_or(0);
-        line.write(w, t, 1, r)?;
+        nums.ids(t, 1).int(r).end(w)?;
     }
     writeln!(w, "\nEnd")
 }

@@ -373,7 +373,8 @@ pub(crate) fn check_indices<const K: usize>(
 }
 
 /// Builds a line of numbers without the formatting machinery (`itoa`, `ryu`: the same
-/// text as `{}` and `{:?}`), then writes it whole.
+/// text as `{}` and `{:?}`), then writes it whole: 4 M tets of a Medit file in 0.3 s
+/// instead of 1.1 s.
 #[derive(Default)]
 pub(crate) struct NumLine {
     buf: Vec<u8>,
@@ -386,6 +387,14 @@ impl NumLine {
     pub(crate) fn int(&mut self, x: impl itoa::Integer) -> &mut Self {
         self.buf.extend_from_slice(self.int.format(x).as_bytes());
         self.buf.push(b' ');
+        self
+    }
+
+    /// Appends vertex ids (0-based) plus `offset` each (1 for one-based formats).
+    pub(crate) fn ids(&mut self, ids: &[u32], offset: u64) -> &mut Self {
+        for &i in ids {
+            self.int(i as u64 + offset);
+        }
         self
     }
 
@@ -414,35 +423,6 @@ impl NumLine {
         let r = w.write_all(&self.buf);
         self.buf.clear();
         r
-    }
-}
-
-/// Writes lines of indices and a trailing reference (`"a b c r\n"`) without the
-/// formatting machinery: 4 M tets of a Medit file in 0.3 s instead of 1.1 s.
-#[derive(Default)]
-pub(crate) struct IndexLine {
-    buf: Vec<u8>,
-}
-
-impl IndexLine {
-    /// Writes `ids` plus `offset` each (1 for one-based formats), then `tail`.
-    pub(crate) fn write<W: std::io::Write>(
-        &mut self,
-        w: &mut W,
-        ids: &[u32],
-        offset: u64,
-        tail: i32,
-    ) -> std::io::Result<()> {
-        let mut num = itoa::Buffer::new();
-        self.buf.clear();
-        for &i in ids {
-            self.buf
-                .extend_from_slice(num.format(i as u64 + offset).as_bytes());
-            self.buf.push(b' ');
-        }
-        self.buf.extend_from_slice(num.format(tail).as_bytes());
-        self.buf.push(b'\n');
-        w.write_all(&self.buf)
     }
 }
 
