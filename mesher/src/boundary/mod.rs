@@ -413,7 +413,7 @@ fn boundary_attempt(
                     Entity::Edge(a, b, _) => {
                         let (ma, mb) = (cur.sv[a as usize].0, cur.sv[b as usize].0);
                         let points = cur.rec.crossing_points(ma, mb);
-                        fresh.extend(clear_of_faces(&work.surface, a, b, points));
+                        fresh.extend(clear_of_faces(&work, a, b, points));
                     }
                     Entity::Face(k) => {
                         fresh.extend(steiner_for_face(&work.surface, k, scale, round))
@@ -449,7 +449,7 @@ fn boundary_attempt(
                         let (ma, mb) = (cur.sv[a as usize].0, cur.sv[b as usize].0);
                         let t = cur.rec.blocker_parameter(ma, mb).unwrap_or(0.5);
                         let points = cur.rec.crossing_points(ma, mb);
-                        fresh.extend(clear_of_faces(&work.surface, a, b, points));
+                        fresh.extend(clear_of_faces(&work, a, b, points));
                         work.split_edge(a, b, t);
                     }
                     Entity::Face(k) => {
@@ -1089,16 +1089,12 @@ fn describe(surface: &Surface, e: Entity) -> String {
 /// next round's crossing points near it come out nearer still: on anchor with another
 /// insertion order, points 1e-6 off a flat face made the split rounds run away (388
 /// edges stuck after 9 rounds, from 13). Inexact constructions.
-fn clear_of_faces(surface: &Surface, a: u32, b: u32, mut points: Vec<Point>) -> Vec<Point> {
-    let v = &surface.vertices;
+fn clear_of_faces(work: &Refined, a: u32, b: u32, mut points: Vec<Point>) -> Vec<Point> {
+    let v = &work.surface.vertices;
     let (pa, pb) = (v[a as usize], v[b as usize]);
     let min = STEINER_CLEARANCE * (pb - pa).length();
-    for t in surface
-        .triangles
-        .iter()
-        .filter(|t| t.contains(&a) && t.contains(&b))
-    {
-        let [p, q, r] = t.map(|i| v[i as usize]);
+    for k in work.triangles_at(a, &[b]) {
+        let [p, q, r] = work.surface.triangles[k].map(|i| v[i as usize]);
         let n = (q - p).cross(r - p).normalize_or_zero();
         for x in &mut points {
             let d = n.dot(*x - pa);

@@ -43,19 +43,68 @@ pub(super) struct Refined {
     pub exact: Vec<bool>,
     /// Whether each split was undone (its point taken out of the mesh).
     pub removed: Vec<bool>,
+    /// The input triangles at each input vertex (`at[start[v]..start[v + 1]]`), and
+    /// the triangles the splits and merges wrote or moved since: together they hold
+    /// every triangle at a vertex ([`Refined::triangles_at`]), without a sweep.
+    start: Vec<u32>,
+    at: Vec<u32>,
+    changed: Vec<u32>,
 }
 
 impl Refined {
     /// The input surface, not split.
     pub fn new(surface: &Surface) -> Self {
+        let n = surface.vertices.len();
+        let mut start = vec![0u32; n + 1];
+        for t in &surface.triangles {
+            for &v in t.iter().filter(|&&v| (v as usize) < n) {
+                start[v as usize + 1] += 1;
+            }
+        }
+        for v in 0..n {
+            start[v + 1] += start[v];
+        }
+        let mut next = start.clone();
+        let mut at = vec![0u32; start[n] as usize];
+        for (k, t) in surface.triangles.iter().enumerate() {
+            for &v in t.iter().filter(|&&v| (v as usize) < n) {
+                at[next[v as usize] as usize] = k as u32;
+                next[v as usize] += 1;
+            }
+        }
         Refined {
             surface: surface.clone(),
             parent: (0..surface.triangles.len() as u32).collect(),
-            inputs: surface.vertices.len(),
+            inputs: n,
             splits: Vec::new(),
             exact: Vec::new(),
             removed: Vec::new(),
+            start,
+            at,
+            changed: Vec::new(),
         }
+    }
+
+    /// The indices of the triangles that hold vertex `v` and every vertex of `also`,
+    /// increasing (what a sweep over the triangles finds).
+    pub fn triangles_at(&self, v: u32, also: &[u32]) -> Vec<usize> {
+        let tris = &self.surface.triangles;
+        let row = match (self.start.get(v as usize), self.start.get(v as usize + 1)) {
+            (Some(&a), Some(&b)) => &self.at[a as usize..b as usize],
+            _ => &[],
+        };
+        let mut out: Vec<usize> = row
+            .iter()
+            .chain(&self.changed)
+            .map(|&k| k as usize)
+            .filter(|&k| {
+                tris.get(k)
+                    .is_some_and(|t| t.contains(&v) && also.iter().all(|x| t.contains(x)))
+            })
+            .collect();
+        out.sort_unstable();
+        out.dedup();
+        out
     }
 
     /// Splits the edge `(a, b)` (refined vertex ids) and the triangles on it near the
@@ -64,13 +113,8 @@ impl Refined {
     pub fn split_edge(&mut self, a: u32, b: u32, t: f64) -> bool {
         let v = &self.surface.vertices;
         let (pa, pb) = (v[a as usize], v[b as usize]);
-        // The triangles on the edge (one sweep), with their apexes.
-        let on_edge: Vec<usize> = (0..self.surface.triangles.len())
-            .filter(|&k| {
-                let t = &self.surface.triangles[k];
-                t.contains(&a) && t.contains(&b)
-            })
-            .collect();
+        // The triangles on the edge, with their apexes.
+        let on_edge = self.triangles_at(a, &[b]);
         let apexes: Vec<Point> = on_edge
             .iter()
             .filter_map(|&k| {
@@ -99,6 +143,8 @@ impl Refined {
             };
             let (x, y, z) = (t[i], t[(i + 1) % 3], t[(i + 2) % 3]);
             self.surface.triangles[k] = [x, mid, z];
+            self.changed.push(k as u32);
+            self.changed.push(self.surface.triangles.len() as u32);
             self.surface.triangles.push([mid, y, z]);
             self.parent.push(self.parent[k]);
         }
@@ -109,9 +155,7 @@ impl Refined {
     /// the split made: four triangles `(u, m, c)`, `(m, w, c)`, `(u, m, d)`,
     /// `(m, w, d)`. Returns `[c, d]` and the four triangles' indices.
     pub fn star(&self, [m, u, w]: [u32; 3]) -> Option<([u32; 2], [usize; 4])> {
-        let tris: Vec<usize> = (0..self.surface.triangles.len())
-            .filter(|&k| self.surface.triangles[k].contains(&m))
-            .collect();
+        let tris = self.triangles_at(m, &[]);
         let &[k0, k1, k2, k3] = tris.as_slice() else {
             return None;
         };
@@ -143,6 +187,7 @@ impl Refined {
         let mut drop = Vec::with_capacity(2);
         for &k in &tris {
             let t = &mut self.surface.triangles[k];
+            self.changed.push(k as u32);
             if t.contains(&u) {
                 // (u, m, c) in some rotation: m becomes w.
                 for x in t.iter_mut() {
@@ -158,6 +203,8 @@ impl Refined {
         for k in drop.into_iter().rev() {
             self.surface.triangles.swap_remove(k);
             self.parent.swap_remove(k);
+            // The last triangle moved into slot `k`.
+            self.changed.push(k as u32);
         }
     }
 }
@@ -289,6 +336,42 @@ mod tests {
             assert!(exact || ok(m), "t = {t}");
         }
         assert!(inverted_by_rounding > 0);
+    }
+
+    /// The index finds what a sweep over the triangles finds, through splits (of
+    /// pieces too) and merges in any order.
+    #[test]
+    fn triangles_at_a_vertex_match_a_sweep_through_splits_and_merges() {
+        let s = generate::icosphere(1);
+        let mut r = Refined::new(&s);
+        let check = |r: &Refined| {
+            for v in 0..r.surface.vertices.len() as u32 {
+                for also in [vec![], vec![(v + 1) % 7]] {
+                    let sweep: Vec<usize> = (0..r.surface.triangles.len())
+                        .filter(|&k| {
+                            let t = r.surface.triangles[k];
+                            t.contains(&v) && also.iter().all(|x| t.contains(x))
+                        })
+                        .collect();
+                    assert_eq!(r.triangles_at(v, &also), sweep, "vertex {v}");
+                }
+            }
+        };
+        for k in [0, 5, 9, 3] {
+            let [a, b, _] = r.surface.triangles[k];
+            assert!(r.split_edge(a, b, 0.5));
+            check(&r);
+        }
+        // A piece of a split edge split again.
+        let [m, a, _] = r.splits[0];
+        assert!(r.split_edge(m, a, 0.5));
+        check(&r);
+        for i in [4, 1, 2, 0, 3] {
+            let split = r.splits[i];
+            let (_, tris) = r.star(split).expect("the star of the split");
+            r.merge(split, tris);
+            check(&r);
+        }
     }
 
     #[test]

@@ -336,7 +336,12 @@ fn crossing_points_are_kept_off_the_faces_of_their_edge() {
         .sum::<Point>()
         .normalize();
     let far = mid + inward * 0.3 * len;
-    let moved = clear_of_faces(&s, a, b, vec![mid, mid + inward * 1e-9, far]);
+    let moved = clear_of_faces(
+        &super::split::Refined::new(&s),
+        a,
+        b,
+        vec![mid, mid + inward * 1e-9, far],
+    );
     for x in &moved[..2] {
         for t in &tris {
             let [p, q, r] = t.map(|i| s.vertices[i as usize]);
