@@ -13,7 +13,7 @@
 
 use super::{SizeField, SizingError};
 use crate::boundary::BoundaryMesh;
-use crate::geom::predicates::{orient3d, Orientation};
+use crate::geom::predicates::{orient3d, Orientation, StaticFilter};
 use crate::geom::Point;
 use crate::quality::length::normalized_length;
 use crate::surface::Surface;
@@ -189,6 +189,9 @@ pub struct Background {
     /// Tets by grid cell, for a background that may not be convex (a user's): a walk
     /// stops at its hull, where the domain has a hole, far from the point.
     grid: Option<TetGrid>,
+    /// The static filter of the walks' orientations, for the box of the vertices (a
+    /// query point outside it takes the generic filter).
+    filter: StaticFilter,
 }
 
 impl Background {
@@ -212,11 +215,16 @@ impl Background {
             .next()
             .ok_or_else(|| SizingError::Mesh("no tetrahedron".into()))?
             .0;
+        let (lo, hi) = mesh.points().iter().fold(
+            (Point::splat(f64::INFINITY), Point::splat(f64::NEG_INFINITY)),
+            |(lo, hi), &p| (lo.min(p), hi.max(p)),
+        );
         Ok(Background {
             mesh,
             h,
             any,
             grid: None,
+            filter: StaticFilter::new(lo, hi),
         })
     }
 
@@ -300,6 +308,11 @@ impl Background {
         let mut rng =
             (p.x.to_bits() ^ p.y.to_bits().rotate_left(21) ^ p.z.to_bits().rotate_left(42)) | 1;
         let mut came = usize::MAX;
+        let filter = if self.filter.contains(p) {
+            self.filter
+        } else {
+            StaticFilter::none()
+        };
         for step in 0..MAX_WALK {
             visited = step + 1;
             let q = self.mesh.tet_points(crate::tetmesh::TetId(t));
@@ -322,7 +335,7 @@ impl Background {
             let beyond = |k: usize| {
                 let mut r = q;
                 r[k] = p;
-                k != came && orient3d(r[0], r[1], r[2], r[3]) == Orientation::Negative
+                k != came && filter.orient3d(r[0], r[1], r[2], r[3]) == Orientation::Negative
             };
             let Some(i) = (0..4).map(|k| (start + k) & 3).find(|&k| beyond(k)) else {
                 break;
