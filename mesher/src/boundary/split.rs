@@ -16,7 +16,7 @@
 
 use crate::geom::predicates::{on_open_segment, orient3d};
 use crate::geom::Point;
-use crate::surface::Surface;
+use crate::surface::{faces_by_vertex, Surface};
 
 /// Denominator of the dyadic fractions tried near the wanted split parameter, nearest
 /// first.
@@ -55,23 +55,7 @@ impl Refined {
     /// The input surface, not split.
     pub fn new(surface: &Surface) -> Self {
         let n = surface.vertices.len();
-        let mut start = vec![0u32; n + 1];
-        for t in &surface.triangles {
-            for &v in t.iter().filter(|&&v| (v as usize) < n) {
-                start[v as usize + 1] += 1;
-            }
-        }
-        for v in 0..n {
-            start[v + 1] += start[v];
-        }
-        let mut next = start.clone();
-        let mut at = vec![0u32; start[n] as usize];
-        for (k, t) in surface.triangles.iter().enumerate() {
-            for &v in t.iter().filter(|&&v| (v as usize) < n) {
-                at[next[v as usize] as usize] = k as u32;
-                next[v as usize] += 1;
-            }
-        }
+        let (start, at) = faces_by_vertex(surface, |_| true);
         Refined {
             surface: surface.clone(),
             parent: (0..surface.triangles.len() as u32).collect(),

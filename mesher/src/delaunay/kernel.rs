@@ -134,11 +134,7 @@ impl Kernel {
     /// called for points outside the box without inserting them).
     #[inline]
     fn filter_for(&self, p: Point) -> StaticFilter {
-        if self.filter.contains(p) {
-            self.filter
-        } else {
-            StaticFilter::none()
-        }
+        self.filter.for_point(p)
     }
 
     /// Sets the tet where the next walk starts.

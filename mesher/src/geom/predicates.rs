@@ -383,6 +383,22 @@ impl StaticFilter {
         StaticFilter { min, max, o3d, isp }
     }
 
+    /// A filter for the box of `points` ([`StaticFilter::none`] when there are none).
+    pub fn of_points<'a>(points: impl IntoIterator<Item = &'a DVec3>) -> Self {
+        super::Aabb::of_points(points).map_or_else(Self::none, |b| Self::new(b.min, b.max))
+    }
+
+    /// This filter when `p` lies in its box, else the generic one (for a query point
+    /// that may lie outside the box of the points it is tested with).
+    #[inline]
+    pub fn for_point(&self, p: DVec3) -> Self {
+        if self.contains(p) {
+            *self
+        } else {
+            Self::none()
+        }
+    }
+
     /// A filter that never decides alone (every call takes the semi-static path).
     pub fn none() -> Self {
         StaticFilter {

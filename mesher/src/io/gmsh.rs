@@ -33,7 +33,7 @@ pub fn parse_bytes(name: &str, bytes: &[u8]) -> Result<VolumeMesh, IoError> {
             return super::gmsh_binary::parse(name, bytes);
         }
     }
-    parse(name, &String::from_utf8_lossy(bytes))
+    parse(name, &super::text::utf8_text(bytes))
 }
 
 /// Parses an ASCII Gmsh mesh.

@@ -6,7 +6,7 @@
 //! keyword. Indices are 1-based in the file and 0-based in memory. `#` starts a comment.
 
 use super::error::IoError;
-use super::text::{check_indices, NumLine, Tokens};
+use super::text::{check_indices, utf8_text, NumLine, Tokens};
 use super::{read_bytes, write_with};
 use crate::surface::Surface;
 use crate::volume::VolumeMesh;
@@ -216,14 +216,11 @@ pub(crate) fn write_files(path: &Path, m: &VolumeMesh) -> Result<(), IoError> {
 /// Reads `path` (`.mesh`) and, when a `.sol` exists beside it, its vertex sizes.
 pub(crate) fn read_files(path: &Path) -> Result<VolumeMesh, IoError> {
     let bytes = read_bytes(path)?;
-    let mut m = parse_mesh(
-        &path.display().to_string(),
-        &String::from_utf8_lossy(&bytes),
-    )?;
+    let mut m = parse_mesh(&path.display().to_string(), &utf8_text(&bytes))?;
     let sol = path.with_extension("sol");
     if sol.is_file() {
         let bytes = read_bytes(&sol)?;
-        let text = String::from_utf8_lossy(&bytes);
+        let text = utf8_text(&bytes);
         m.vertex_sizes = Some(parse_sol(
             &sol.display().to_string(),
             &text,

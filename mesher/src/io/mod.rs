@@ -251,17 +251,11 @@ pub fn read_volume(path: &Path) -> Result<VolumeMesh, IoError> {
         Some(VolumeFormat::Medit) => medit::read_files(path),
         Some(VolumeFormat::Vtu) => {
             let bytes = read_bytes(path)?;
-            vtk::parse_vtu(
-                &path.display().to_string(),
-                &String::from_utf8_lossy(&bytes),
-            )
+            vtk::parse_vtu(&path.display().to_string(), &text::utf8_text(&bytes))
         }
         Some(VolumeFormat::LegacyVtk) => {
             let bytes = read_bytes(path)?;
-            vtk::parse_legacy(
-                &path.display().to_string(),
-                &String::from_utf8_lossy(&bytes),
-            )
+            vtk::parse_legacy(&path.display().to_string(), &text::utf8_text(&bytes))
         }
         Some(VolumeFormat::Gmsh) => {
             let bytes = read_bytes(path)?;

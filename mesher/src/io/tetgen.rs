@@ -63,10 +63,7 @@ pub fn parse_points(name: &str, text: &str) -> Result<Vec<crate::geom::Point>, I
 /// Reads a `.node` file alone (see [`parse_points`]).
 pub fn read_points(path: &Path) -> Result<Vec<crate::geom::Point>, IoError> {
     let bytes = read_bytes(path)?;
-    parse_points(
-        &path.display().to_string(),
-        &String::from_utf8_lossy(&bytes),
-    )
+    parse_points(&path.display().to_string(), &super::text::utf8_text(&bytes))
 }
 
 /// Reads the nodes; returns the numbering base (index of the first node).
@@ -232,7 +229,7 @@ pub(crate) fn read_files(path: &Path) -> Result<VolumeMesh, IoError> {
         let bytes = read_bytes(&p)?;
         Ok((
             p.display().to_string(),
-            String::from_utf8_lossy(&bytes).into_owned(),
+            super::text::utf8_text(&bytes).into_owned(),
         ))
     };
     let node = load("node")?;

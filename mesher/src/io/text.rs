@@ -12,6 +12,13 @@ pub(crate) fn utf8_text(bytes: &[u8]) -> std::borrow::Cow<'_, str> {
     }
 }
 
+/// ASCII whitespace as `char::is_whitespace` has it, but the line feed (which ends a
+/// line): space, tab, carriage return, vertical tab and form feed.
+#[inline]
+fn ascii_space(b: u8) -> bool {
+    matches!(b, b' ' | b'\t' | b'\r' | 0x0b | 0x0c)
+}
+
 /// A stream of whitespace-separated tokens over a text (a whole file or a single line),
 /// tracking the line of each token.
 #[derive(Clone)]
@@ -74,7 +81,7 @@ impl<'a> Tokens<'a> {
                     return None;
                 }
                 Some(b'\n') => self.line += 1,
-                Some(b' ' | b'\t' | b'\r' | 0x0b | 0x0c) => {}
+                Some(&b) if ascii_space(b) => {}
                 Some(&b) if b >= 0x80 => {
                     self.rest = &self.rest[i..];
                     return self.next_token_chars();
@@ -94,7 +101,7 @@ impl<'a> Tokens<'a> {
                 self.rest = &self.rest[start..];
                 return self.next_token_chars();
             }
-            if matches!(b, b' ' | b'\t' | b'\n' | b'\r' | 0x0b | 0x0c) || Some(b) == comment {
+            if b == b'\n' || ascii_space(b) || Some(b) == comment {
                 break;
             }
             i += 1;
@@ -193,6 +200,11 @@ impl<'a> Tokens<'a> {
     /// The next token parsed as a signed integer.
     pub(crate) fn i64(&mut self, what: &str) -> Result<i64, IoError> {
         let t = self.expect(what)?;
+        self.parse_i64(t, what)
+    }
+
+    /// The token `t` just read as a signed integer.
+    fn parse_i64(&self, t: &str, what: &str) -> Result<i64, IoError> {
         t.parse::<i64>()
             .map_err(|_| self.error(format!("expected {what} (an integer), found '{t}'")))
     }
@@ -241,9 +253,7 @@ impl<'a> Tokens<'a> {
         base: i64,
         n: Option<usize>,
     ) -> Result<u32, IoError> {
-        let raw = t
-            .parse::<i64>()
-            .map_err(|_| self.error(format!("expected vertex index (an integer), found '{t}'")))?;
+        let raw = self.parse_i64(t, "vertex index")?;
         to_index(raw, base, n).map_err(|m| self.error(format!("{elem} {m}")))
     }
 

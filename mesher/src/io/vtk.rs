@@ -52,7 +52,7 @@ pub fn write_vtu<W: Write>(w: &mut W, m: &VolumeMesh) -> std::io::Result<()> {
         "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">"
     )?;
     for t in &m.tets {
-        line.int(t[0]).int(t[1]).int(t[2]).int(t[3]).end(w)?;
+        line.ids(t, 0).end(w)?;
     }
     writeln!(
         w,

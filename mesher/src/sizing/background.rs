@@ -215,16 +215,13 @@ impl Background {
             .next()
             .ok_or_else(|| SizingError::Mesh("no tetrahedron".into()))?
             .0;
-        let (lo, hi) = mesh.points().iter().fold(
-            (Point::splat(f64::INFINITY), Point::splat(f64::NEG_INFINITY)),
-            |(lo, hi), &p| (lo.min(p), hi.max(p)),
-        );
+        let filter = StaticFilter::of_points(mesh.points());
         Ok(Background {
             mesh,
             h,
             any,
             grid: None,
-            filter: StaticFilter::new(lo, hi),
+            filter,
         })
     }
 
@@ -308,11 +305,7 @@ impl Background {
         let mut rng =
             (p.x.to_bits() ^ p.y.to_bits().rotate_left(21) ^ p.z.to_bits().rotate_left(42)) | 1;
         let mut came = usize::MAX;
-        let filter = if self.filter.contains(p) {
-            self.filter
-        } else {
-            StaticFilter::none()
-        };
+        let filter = self.filter.for_point(p);
         for step in 0..MAX_WALK {
             visited = step + 1;
             let q = self.mesh.tet_points(crate::tetmesh::TetId(t));

@@ -111,12 +111,11 @@ fn self_intersections(s: &Surface, st: &FaceStatus) -> SelfIntersections {
             items.push((f as u32, b));
         }
     }
-    // Every corner tested lies in the box of the boxes: a static filter holds for them.
-    let (lo, hi) = items.iter().fold(
-        (Point::splat(f64::INFINITY), Point::splat(f64::NEG_INFINITY)),
-        |(lo, hi), (_, b)| (lo.min(b.min.into()), hi.max(b.max.into())),
-    );
-    let filter = StaticFilter::new(lo, hi);
+    // Every corner tested lies in the box of the faces tested: a static filter holds.
+    let corners = items
+        .iter()
+        .flat_map(|&(f, _)| s.triangles[f as usize].map(|v| &s.vertices[v as usize]));
+    let filter = StaticFilter::of_points(corners);
     let bvh = Bvh::build(items);
     let used = AtomicU64::new(0);
     let stop = AtomicBool::new(false);

@@ -22,7 +22,7 @@ mod shells;
 mod topology;
 
 pub use report::CheckReport;
-pub(crate) use topology::sorted_ids;
+pub(crate) use topology::{faces_by_vertex, sorted_ids};
 
 use crate::geom::Point;
 

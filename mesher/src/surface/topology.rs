@@ -190,31 +190,40 @@ pub(crate) fn classify_edges(s: &Surface, et: &EdgeTable, r: &mut CheckReport) {
     }
 }
 
-/// Vertices whose incident faces form more than one edge-connected fan.
-pub(crate) fn pinched_vertices(s: &Surface, st: &FaceStatus) -> Vec<PinchedVertex> {
+/// The faces at each vertex, compressed: vertex `v`'s faces (increasing) are
+/// `faces[start[v]..start[v + 1]]`. Faces `keep` refuses, and indices past the
+/// vertices, are left out.
+pub(crate) fn faces_by_vertex(s: &Surface, keep: impl Fn(usize) -> bool) -> (Vec<u32>, Vec<u32>) {
     let nv = s.vertices.len();
-    // Compressed vertex -> incident faces.
+    let corners = |f: usize| {
+        let t = s.triangles[f];
+        let ok = keep(f);
+        t.into_iter().filter(move |&v| ok && (v as usize) < nv)
+    };
     let mut start = vec![0u32; nv + 1];
-    for (f, t) in s.triangles.iter().enumerate() {
-        if st.index_ok[f] {
-            for &v in t {
-                start[v as usize + 1] += 1;
-            }
+    for f in 0..s.triangles.len() {
+        for v in corners(f) {
+            start[v as usize + 1] += 1;
         }
     }
     for v in 0..nv {
         start[v + 1] += start[v];
     }
     let mut fill = start.clone();
-    let mut inc = vec![0u32; start[nv] as usize];
-    for (f, t) in s.triangles.iter().enumerate() {
-        if st.index_ok[f] {
-            for &v in t {
-                inc[fill[v as usize] as usize] = f as u32;
-                fill[v as usize] += 1;
-            }
+    let mut faces = vec![0u32; start[nv] as usize];
+    for f in 0..s.triangles.len() {
+        for v in corners(f) {
+            faces[fill[v as usize] as usize] = f as u32;
+            fill[v as usize] += 1;
         }
     }
+    (start, faces)
+}
+
+/// Vertices whose incident faces form more than one edge-connected fan.
+pub(crate) fn pinched_vertices(s: &Surface, st: &FaceStatus) -> Vec<PinchedVertex> {
+    let nv = s.vertices.len();
+    let (start, inc) = faces_by_vertex(s, |f| st.index_ok[f]);
     let mut out = Vec::new();
     let mut link: Vec<(u32, u32)> = Vec::new();
     let mut parent: Vec<u32> = Vec::new();
