@@ -249,11 +249,15 @@ fn level(
                             .iter()
                             .all(|x| x.is_some_and(|x| (x - h).abs() <= MAX_VARIATION * h))
                         };
+                        // Cheapest first, then the most selective (bunny00: of the
+                        // 1.16 M points in their band, 76 % have uniform sizes, 20 % of
+                        // those are inside, and 92 % clear the vertices): the clearance
+                        // search runs for 0.18 M points, not 1.16 M.
                         if !(p.is_finite()
                             && fits
-                            && !domain.near.any_close(p, h)
                             && uniform()
-                            && inside(p))
+                            && inside(p)
+                            && !domain.near.any_close(p, h))
                         {
                             continue;
                         }
