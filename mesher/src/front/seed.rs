@@ -314,12 +314,18 @@ impl SizeGrid {
         let h = (0..n[2])
             .into_par_iter()
             .map(|k| {
-                let mut hint = 0u32;
+                // Each row starts from where the row before started (its neighbour),
+                // not from where it ended (a walk across the box per row).
+                let mut row = 0u32;
                 let mut out = Vec::with_capacity(n[0] * n[1]);
                 for j in 0..n[1] {
+                    let mut hint = row;
                     for i in 0..n[0] {
                         let p = origin + Point::new(i as f64, j as f64, k as f64) * step;
                         out.push(field.size(p, &mut hint));
+                        if i == 0 {
+                            row = hint;
+                        }
                     }
                 }
                 out
