@@ -13,6 +13,7 @@ use crate::sizing::{Background, SizeField, SizingError};
 use crate::surface::Surface;
 use crate::tetmesh::{TetMesh, VertexId, FACE_VERTICES};
 use crate::volume::VolumeMesh;
+use rayon::prelude::*;
 use serde::Serialize;
 use std::time::Instant;
 use thiserror::Error;
@@ -205,6 +206,9 @@ pub fn mesh_with_progress(
     Ok((meshed, report))
 }
 
+/// Vertices per parallel chunk of the size lookups after the optimisation.
+const SIZE_CHUNK: usize = 4096;
+
 /// Optimises the meshed domain in place (boundary vertices and faces fixed); the free
 /// vertices, moved or inserted, get their size from the field again.
 fn optimize_meshed(
@@ -234,14 +238,28 @@ fn optimize_meshed(
     // Every free vertex gets the size at where it is now (the smoothing moved many),
     // so that the reported edge lengths are those of the output, as the harness
     // measures them.
-    let mut hint = 0u32;
+    // In parallel, by chunks of consecutive vertices (inserted near one another), each
+    // chunk's walks from where its previous one ended.
     let points = meshed.mesh.points();
     meshed.h.resize(points.len(), f64::NAN);
-    for (v, p) in points.iter().enumerate() {
-        if !domain.fixed.get(v).copied().unwrap_or(false) {
-            meshed.h[v] = field.size(*p, &mut hint);
-        }
-    }
+    meshed
+        .h
+        .par_chunks_mut(SIZE_CHUNK)
+        .zip(points.par_chunks(SIZE_CHUNK))
+        .enumerate()
+        .for_each(|(k, (h, p))| {
+            let mut hint = 0u32;
+            for (i, (h, p)) in h.iter_mut().zip(p).enumerate() {
+                if !domain
+                    .fixed
+                    .get(k * SIZE_CHUNK + i)
+                    .copied()
+                    .unwrap_or(false)
+                {
+                    *h = field.size(*p, &mut hint);
+                }
+            }
+        });
     report
 }
 

@@ -158,6 +158,7 @@ pub fn optimize(domain: &mut Domain, options: &OptimizeOptions) -> OptimizeRepor
     let mut ops = Ops::new(Local::new(mesh), locks, region, fixed);
     // A scan gives the bad tets for the first pass; after each pass, those at the
     // vertices it changed are rescanned (`rescan`), and a last scan gives H2.
+    ops.prime_qualities();
     let (mut bad, before, worst_before) = scan(&ops, options.bad_quality);
     let mut since = ops.l.stamps.clock;
     let mut worst_after = worst_before;

@@ -117,6 +117,30 @@ impl Ops {
         q
     }
 
+    /// Fills the `Q_K` cache for every live finite tet of the domain, computed in
+    /// parallel: the first scan of a big mesh (bunny00: 1.9 M tets) reads it.
+    pub fn prime_qualities(&self) {
+        use rayon::prelude::*;
+        let (mesh, region) = (&self.l.mesh, &self.region);
+        let qualities: Vec<Option<f64>> = (0..mesh.num_slots() as u32)
+            .into_par_iter()
+            .map(|t| {
+                let id = crate::tetmesh::TetId(t);
+                let inside = region.get(t as usize).is_some_and(|&r| r != 0);
+                (inside && mesh.is_alive(id) && !mesh.is_ghost(id)).then(|| {
+                    q_k(&mesh
+                        .raw_tet(t)
+                        .map(|v| mesh.point(crate::tetmesh::VertexId(v))))
+                })
+            })
+            .collect();
+        for (t, q) in qualities.into_iter().enumerate() {
+            if let (Some(q), Some(entry)) = (q, self.qcache.get(t)) {
+                entry.set((self.l.tet(t as u32), q));
+            }
+        }
+    }
+
     /// `Q_K` of a tet given by its vertices.
     pub fn quality(&self, t: [u32; 4]) -> f64 {
         q_k(&t.map(|v| self.l.p(v)))
