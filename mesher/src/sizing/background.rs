@@ -480,12 +480,20 @@ pub(crate) fn boundary_sizes(bm: &BoundaryMesh, surface: &Surface) -> Vec<f64> {
     } else {
         known.iter().sum::<f64>() / known.len() as f64
     };
-    // Vertex adjacency through the finite tets' edges.
+    // Vertex adjacency through the finite tets' edges, those at a vertex without a
+    // size only (an edge between two sized vertices carries nothing): the box corners'
+    // and the Steiner points' (the sort of every edge took bunny00 78 ms, now 5 ms).
+    let no_size: Vec<bool> = h.iter().map(|x| !x.is_finite()).collect();
     let mut edges: Vec<[u32; 2]> = Vec::new();
     for t in bm.mesh.finite_tets() {
         let v = bm.mesh.raw_tet(t.0);
+        if !v.iter().any(|&x| no_size[x as usize]) {
+            continue;
+        }
         for [i, j] in crate::quality::tet::TET_EDGES {
-            edges.push([v[i].min(v[j]), v[i].max(v[j])]);
+            if no_size[v[i] as usize] || no_size[v[j] as usize] {
+                edges.push([v[i].min(v[j]), v[i].max(v[j])]);
+            }
         }
     }
     edges.sort_unstable();
