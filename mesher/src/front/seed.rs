@@ -102,6 +102,8 @@ struct Domain {
     h_max: f64,
     hint: u32,
     near: Grid,
+    /// The box of every mesh point (the domain's and the bounding box's corners).
+    mesh_box: Option<Aabb>,
 }
 
 impl Domain {
@@ -159,6 +161,7 @@ impl Domain {
             h_max,
             hint: hint?,
             near,
+            mesh_box: Aabb::of_points(mesh.points()),
         })
     }
 }
@@ -225,9 +228,27 @@ fn level(
             // are fixed, whatever the threads).
             let mut hint = 0u32;
             let mut locator = Kernel::new();
-            let mut inside = |p: Point| match locator.locate_next(&fm.mesh, p) {
-                Location::InTet(t) => fm.cons.region.get(t.index()).is_some_and(|&r| r != 0),
-                _ => false,
+            // The static filter over the box of every mesh point (the walks' tets reach
+            // the bounding box's corners).
+            if let Some(bb) = domain.mesh_box {
+                locator.set_bounds(bb.min, bb.max);
+            }
+            // Per lattice column, where the last location in it ended: the next point
+            // tested in that column is a row or a few away (the last location overall
+            // may be rows away).
+            let mut column: Vec<Option<TetId>> = vec![None; nx * 2];
+            let mut inside = |p: Point, c: usize| {
+                if let Some(t) = column[c] {
+                    locator.set_hint(t);
+                }
+                let at = locator.locate_next(&fm.mesh, p);
+                match at {
+                    Location::InTet(t) => {
+                        column[c] = Some(t);
+                        fm.cons.region.get(t.index()).is_some_and(|&r| r != 0)
+                    }
+                    _ => false,
+                }
             };
             for j in 0..ny {
                 for i in 0..nx {
@@ -260,7 +281,8 @@ fn level(
                             continue;
                         }
                         let p = at(i, j, k, s);
-                        if !(p.is_finite() && inside(p) && !domain.near.any_close(p, h)) {
+                        if !(p.is_finite() && inside(p, 2 * i + s) && !domain.near.any_close(p, h))
+                        {
                             continue;
                         }
                         // The interpolated sizes smooth the field out: the tests again
