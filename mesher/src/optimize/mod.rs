@@ -156,8 +156,9 @@ pub fn optimize(domain: &mut Domain, options: &OptimizeOptions) -> OptimizeRepor
     let region = std::mem::take(&mut domain.region);
     let fixed = std::mem::take(&mut domain.fixed);
     let mut ops = Ops::new(Local::new(mesh), locks, region, fixed);
-    // A scan gives the bad tets for the first pass; after each pass, those at the
-    // vertices it changed are rescanned (`rescan`), and a last scan gives H2.
+    // The Q_K of every tet, in parallel; then a scan gives the bad tets for the first
+    // pass; after each pass, those at the vertices it changed are rescanned
+    // (`rescan`), and a last scan gives H2.
     ops.prime_qualities();
     let (mut bad, before, worst_before) = scan(&ops, options.bad_quality);
     let mut since = ops.l.stamps.clock;

@@ -26,8 +26,9 @@ use crate::geom::search::compass;
 use crate::geom::Point;
 use crate::quality::target::face_best_q_k;
 use crate::quality::tet::{min_dihedral, q_k, signed_volume, TET_EDGES, WELL_SHAPED_Q_K};
-use crate::tetmesh::{FaceRef, FACE_VERTICES};
+use crate::tetmesh::{FaceRef, TetId, VertexId, FACE_VERTICES};
 use crate::FastMap;
+use rayon::prelude::*;
 use std::cell::Cell;
 
 /// Height of the regular tet over a face of edge `h`, over `h`: sqrt(2/3).
@@ -120,18 +121,14 @@ impl Ops {
     /// Fills the `Q_K` cache for every live finite tet of the domain, computed in
     /// parallel: the first scan of a big mesh (bunny00: 1.9 M tets) reads it.
     pub fn prime_qualities(&self) {
-        use rayon::prelude::*;
         let (mesh, region) = (&self.l.mesh, &self.region);
         let qualities: Vec<Option<f64>> = (0..mesh.num_slots() as u32)
             .into_par_iter()
             .map(|t| {
-                let id = crate::tetmesh::TetId(t);
+                let id = TetId(t);
                 let inside = region.get(t as usize).is_some_and(|&r| r != 0);
-                (inside && mesh.is_alive(id) && !mesh.is_ghost(id)).then(|| {
-                    q_k(&mesh
-                        .raw_tet(t)
-                        .map(|v| mesh.point(crate::tetmesh::VertexId(v))))
-                })
+                (inside && mesh.is_alive(id) && !mesh.is_ghost(id))
+                    .then(|| q_k(&mesh.raw_tet(t).map(|v| mesh.point(VertexId(v)))))
             })
             .collect();
         for (t, q) in qualities.into_iter().enumerate() {
