@@ -41,9 +41,7 @@ impl Recovery {
         let mut kernel = Kernel::new();
         // The static filter over the box of every vertex, old and new.
         let all = self.l.mesh.points().iter().chain(points);
-        if let Some(bb) = crate::geom::Aabb::of_points(all) {
-            kernel.set_bounds(bb.min, bb.max);
-        }
+        kernel.set_filter(crate::geom::predicates::StaticFilter::of_points(all));
         let mut out = Vec::with_capacity(points.len());
         let mut touched = vec![false; self.l.mesh.num_vertices() + points.len()];
         for &p in points {

@@ -130,6 +130,12 @@ impl Kernel {
         self.filter = StaticFilter::new(min, max);
     }
 
+    /// [`Kernel::set_bounds`] with a filter made already (e.g.
+    /// [`StaticFilter::of_points`] of the mesh's points).
+    pub fn set_filter(&mut self, filter: StaticFilter) {
+        self.filter = filter;
+    }
+
     /// The static filter if `p` lies in its box, else the generic one (`locate` may be
     /// called for points outside the box without inserting them).
     #[inline]

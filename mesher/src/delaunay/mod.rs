@@ -12,7 +12,7 @@ pub mod sort;
 
 pub use kernel::{Constraints, Inserted, Kernel, KernelStats, Location, Rejection};
 
-use crate::geom::predicates::{orient2d, orient3d, Orientation};
+use crate::geom::predicates::{orient2d, orient3d, Orientation, StaticFilter};
 use crate::geom::Point;
 use crate::tetmesh::{TetMesh, VertexId};
 use thiserror::Error;
@@ -142,9 +142,7 @@ pub fn triangulate(
     mesh.reserve_vertices(points.len());
     mesh.reserve_tets(points.len() * 7);
     let mut kernel = Kernel::new();
-    if let Some(bb) = crate::geom::Aabb::of_points(points) {
-        kernel.set_bounds(bb.min, bb.max);
-    }
+    kernel.set_filter(StaticFilter::of_points(points));
     let mut duplicates = 0;
     // Gather the points in insertion order first: independent loads that the processor
     // overlaps, instead of one cache miss per insertion inside the dependent loop.

@@ -35,7 +35,7 @@ pub mod point;
 mod seed;
 
 use crate::delaunay::{Constraints, DelaunayError, Kernel, Rejection};
-use crate::geom::predicates::{insphere, Sphere};
+use crate::geom::predicates::{insphere, Sphere, StaticFilter};
 use crate::geom::{Aabb, Point};
 use crate::quality::normalized_length;
 use crate::quality::tet::{q_k, TET_EDGES};
@@ -351,9 +351,7 @@ pub fn advance(
         tries: vec![0u8; slots],
     };
     let mut kernel = Kernel::new();
-    if let Some(bb) = Aabb::of_points(fm.mesh.points()) {
-        kernel.set_bounds(bb.min, bb.max);
-    }
+    kernel.set_filter(StaticFilter::of_points(fm.mesh.points()));
     let mut report = FrontReport::default();
     let mut absorbable: Vec<u8> = Vec::new();
     let mut last = None;

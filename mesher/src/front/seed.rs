@@ -21,6 +21,7 @@ use super::filter::Grid;
 use super::{Candidate, FieldMesh, FrontParams};
 use crate::delaunay::sort::SplitMix64;
 use crate::delaunay::{Kernel, Location};
+use crate::geom::predicates::StaticFilter;
 use crate::geom::{Aabb, Point};
 use crate::sizing::SizeField;
 use crate::tetmesh::TetId;
@@ -102,8 +103,9 @@ struct Domain {
     h_max: f64,
     hint: u32,
     near: Grid,
-    /// The box of every mesh point (the domain's and the bounding box's corners).
-    mesh_box: Option<Aabb>,
+    /// The static filter over the box of every mesh point (the domain's and the
+    /// bounding box's corners: the walks' tets reach them).
+    filter: StaticFilter,
 }
 
 impl Domain {
@@ -161,7 +163,7 @@ impl Domain {
             h_max,
             hint: hint?,
             near,
-            mesh_box: Aabb::of_points(mesh.points()),
+            filter: StaticFilter::of_points(mesh.points()),
         })
     }
 }
@@ -228,11 +230,7 @@ fn level(
             // are fixed, whatever the threads).
             let mut hint = 0u32;
             let mut locator = Kernel::new();
-            // The static filter over the box of every mesh point (the walks' tets reach
-            // the bounding box's corners).
-            if let Some(bb) = domain.mesh_box {
-                locator.set_bounds(bb.min, bb.max);
-            }
+            locator.set_filter(domain.filter);
             // Per lattice column, where the last location in it ended: the next point
             // tested in that column is a row or a few away (the last location overall
             // may be rows away).

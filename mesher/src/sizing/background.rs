@@ -487,9 +487,6 @@ pub(crate) fn boundary_sizes(bm: &BoundaryMesh, surface: &Surface) -> Vec<f64> {
     let mut edges: Vec<[u32; 2]> = Vec::new();
     for t in bm.mesh.finite_tets() {
         let v = bm.mesh.raw_tet(t.0);
-        if !v.iter().any(|&x| no_size[x as usize]) {
-            continue;
-        }
         for [i, j] in crate::quality::tet::TET_EDGES {
             if no_size[v[i] as usize] || no_size[v[j] as usize] {
                 edges.push([v[i].min(v[j]), v[i].max(v[j])]);
