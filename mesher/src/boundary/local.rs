@@ -345,6 +345,8 @@ impl Local {
                 let u = FaceRef::from_raw(adj[i]).tet().0;
                 if seen[u as usize] != visit {
                     seen[u as usize] = visit;
+                    // Read a few steps later: its cache line loads meanwhile.
+                    self.mesh.prefetch(u);
                     out.push(u);
                 }
             }

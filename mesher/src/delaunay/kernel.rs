@@ -173,6 +173,10 @@ impl Kernel {
         'walk: while steps < bound {
             steps += 1;
             let v = mesh.raw_tet(t);
+            // The next tet is one of these: its cache line loads during the tests.
+            for a in mesh.raw_adj(t) {
+                mesh.prefetch(a >> 2);
+            }
             let q = [
                 pt(mesh, v[0]),
                 pt(mesh, v[1]),

@@ -215,6 +215,9 @@ impl Kernel {
         if veto(start) {
             return false;
         }
+        for a in mesh.raw_adj(start) {
+            mesh.prefetch(a >> 2);
+        }
         self.stack.push(start);
         while let Some(c) = self.stack.pop() {
             let adj = mesh.raw_adj(c);
@@ -232,6 +235,13 @@ impl Kernel {
                 let same = mesh.raw_tet(u)[3] != GHOST && cons.region[u as usize] == region;
                 let conflict = same && in_conflict(mesh, &filter, u, p);
                 if conflict || (same && absorb(u)) {
+                    if conflict {
+                        // Its neighbours are tested next: their cache lines load
+                        // meanwhile.
+                        for a in mesh.raw_adj(u) {
+                            mesh.prefetch(a >> 2);
+                        }
+                    }
                     self.marks[u as usize] = IN;
                     self.cavity.push(u);
                     if veto(u) {
