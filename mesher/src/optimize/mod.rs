@@ -17,7 +17,8 @@
 //! boundary), or one point for the free vertices of a cavity grown around it
 //! (`Ops::replace_grown_around`), or one point for the ring of one of its edges off the
 //! surface (`Ops::split_edge_of`), or a compass search for the position of one free
-//! vertex (`Ops::smooth_search`), then a polishing pass.
+//! vertex (`Ops::smooth_search`), then a polishing pass around it (the bad tets at the
+//! vertices it changed).
 //! Last of all, the smallest dihedral angle is widened by moving a free vertex of its
 //! tet (`Ops::widen_dihedral`), as far as its ball's worst `Q_K` allows; a ball whose
 //! worst is within 2 % of what its boundary faces allow (their per-face `Q_t` terms,
@@ -211,7 +212,12 @@ pub fn optimize(domain: &mut Domain, options: &OptimizeOptions) -> OptimizeRepor
         }
     }
     // The last resort for the worst tet (see `last_resort`), then a polishing pass
-    // around it, while that improves it.
+    // around it (the bad tets at the vertices it changed), while that improves it. A
+    // pass over every bad tet after each round (the bar is the bad quality whenever
+    // the worst is below 25) reworked the whole mesh for one tet: couplingdown 0.70 ->
+    // 0.43 s of optimisation, t13-data 0.12 -> 0.09 s, the worst Q_K the same (17.87 ->
+    // 17.85, 46.09), 1.6 points fewer tets below Q_K 3 on those two (60.4 -> 58.7 %,
+    // 57.2 -> 55.7 %; the best boundary-keeping peer: 44.5 %, 43.1 %).
     for _ in 0..options.polish_passes {
         let Some(&(q, t, _)) = bad
             .iter()
@@ -220,13 +226,19 @@ pub fn optimize(domain: &mut Domain, options: &OptimizeOptions) -> OptimizeRepor
             break;
         };
         let tp = Instant::now();
+        let clock = ops.l.stamps.clock;
         let Some(done) = last_resort(&mut ops, t, options) else {
             break;
         };
         ops.l.forget();
         (bad, _) = rescan(&ops, bad, &mut since, options.bad_quality);
+        let around: Vec<Bad> = bad
+            .iter()
+            .filter(|b| ops.l.stamps.changed_since(&b.2, clock))
+            .copied()
+            .collect();
         let bar = options.bad_quality.max(q * options.polish_fraction);
-        let mut stats = pass(&mut ops, options, bar, &mut failed, true, bad.clone());
+        let mut stats = pass(&mut ops, options, bar, &mut failed, true, around);
         match done {
             LastResort::Inserted => stats.inserted += 1,
             LastResort::Moved => stats.smoothed += 1,
