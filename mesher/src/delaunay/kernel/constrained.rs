@@ -215,6 +215,7 @@ impl Kernel {
         if veto(start) {
             return false;
         }
+        // Its neighbours are tested first: their cache lines load meanwhile.
         for a in mesh.raw_adj(start) {
             mesh.prefetch(a >> 2);
         }
