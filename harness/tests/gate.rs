@@ -87,6 +87,49 @@ fn absent_runners_are_not_compared_and_new_ones_not_gated() {
     assert_eq!(count(&f, Verdict::New), 1);
 }
 
+#[test]
+fn a_model_crossing_the_time_floor_does_not_change_the_speed_median() {
+    let (b, t) = committed();
+    let floor = t.speed.min_model_seconds;
+    let wall = |rows: &[GateRow], who: &str, m: &str| {
+        rows.iter()
+            .find(|r| r.mesher == who && r.model == m)
+            .and_then(|r| r.wall_seconds)
+    };
+    // A model both sides timed in the baseline, run ten times faster on both sides (the
+    // same ratio) and so under the floor: it still counts, the median stays.
+    let model = b
+        .rows
+        .iter()
+        .filter(|r| r.mesher == "ours" && r.ok())
+        .map(|r| r.model.clone())
+        .find(|m| {
+            let both = [wall(&b.rows, "ours", m), wall(&b.rows, "gmsh-hxt", m)];
+            both.iter()
+                .all(|w| w.is_some_and(|w| w >= floor && w < 10.0 * floor))
+        })
+        .expect("a model both sides ran just above the floor");
+    let mut now = b.rows.clone();
+    for r in now
+        .iter_mut()
+        .filter(|r| r.model == model && (r.mesher == "ours" || r.mesher == "gmsh-hxt"))
+    {
+        r.wall_seconds = r.wall_seconds.map(|w| w / 10.0);
+    }
+    let f = compare(&b.rows, &now, &t);
+    let speed = |f: &[harness::gate::Finding]| {
+        f.iter()
+            .find(|x| x.check == "tets/s ratio" && x.subject.ends_with("gmsh-hxt"))
+            .map(|x| (x.subject.clone(), x.baseline.clone(), x.now.clone()))
+            .expect("a speed row against gmsh-hxt")
+    };
+    let (subject, base, now_ratio) = speed(&f);
+    let (subject0, _, _) = speed(&compare(&b.rows, &b.rows, &t));
+    assert_eq!(subject, subject0, "{model}");
+    assert_eq!(base, now_ratio, "{model}");
+    assert_eq!(count(&f, Verdict::Regressed), 0);
+}
+
 /// A run directory from the fixture records, tetgen-y playing `ours` (timed against
 /// gmsh-hxt, as tolerances.toml declares for `ours`).
 fn fixture_run(dir: &std::path::Path) -> PathBuf {

@@ -155,7 +155,8 @@ pub struct SpeedTolerance {
     pub min_ratio: f64,
     /// Below this total wall time (seconds) a side is not timed.
     pub min_seconds: f64,
-    /// A model counts in the median ratio when both sides ran at least this long.
+    /// A model counts in the median ratio when both sides ran at least this long in the
+    /// baseline (the run is compared over the same models).
     pub min_model_seconds: f64,
 }
 
