@@ -173,10 +173,7 @@ impl Kernel {
         'walk: while steps < bound {
             steps += 1;
             let v = mesh.raw_tet(t);
-            // The next tet is one of these: its cache line loads during the tests.
-            for a in mesh.raw_adj(t) {
-                mesh.prefetch(a >> 2);
-            }
+            mesh.prefetch_neighbors(t);
             let q = [
                 pt(mesh, v[0]),
                 pt(mesh, v[1]),
@@ -271,9 +268,7 @@ impl Kernel {
                     continue;
                 }
                 if s != OUT && in_conflict(mesh, &filter, u, p) {
-                    for a in mesh.raw_adj(u) {
-                        mesh.prefetch(a >> 2);
-                    }
+                    mesh.prefetch_neighbors(u);
                     self.marks[u as usize] = IN;
                     self.stack.push(u);
                     self.cavity.push(u);

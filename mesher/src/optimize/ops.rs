@@ -122,18 +122,19 @@ impl Ops {
     /// parallel: the first scan of a big mesh (bunny00: 1.9 M tets) reads it.
     pub fn prime_qualities(&self) {
         let (mesh, region) = (&self.l.mesh, &self.region);
-        let qualities: Vec<Option<f64>> = (0..mesh.num_slots() as u32)
+        let qualities: Vec<Option<([u32; 4], f64)>> = (0..mesh.num_slots() as u32)
             .into_par_iter()
             .map(|t| {
                 let id = TetId(t);
                 let inside = region.get(t as usize).is_some_and(|&r| r != 0);
+                let v = mesh.raw_tet(t);
                 (inside && mesh.is_alive(id) && !mesh.is_ghost(id))
-                    .then(|| q_k(&mesh.raw_tet(t).map(|v| mesh.point(VertexId(v)))))
+                    .then(|| (v, q_k(&v.map(|x| mesh.point(VertexId(x))))))
             })
             .collect();
         for (t, q) in qualities.into_iter().enumerate() {
             if let (Some(q), Some(entry)) = (q, self.qcache.get(t)) {
-                entry.set((self.l.tet(t as u32), q));
+                entry.set(q);
             }
         }
     }

@@ -317,10 +317,7 @@ impl Background {
                     return (t, l, visited);
                 }
             }
-            // The next tet is one of these: its cache line loads during the tests.
-            for a in self.mesh.raw_adj(t) {
-                self.mesh.prefetch(a >> 2);
-            }
+            self.mesh.prefetch_neighbors(t);
             // Across a face that `p` lies beyond (exact orientation), the faces tried in
             // random order, never back through the face just crossed (module doc). The
             // greedy walk across the most negative inexact coordinate cycled here: on

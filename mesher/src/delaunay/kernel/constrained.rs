@@ -215,10 +215,7 @@ impl Kernel {
         if veto(start) {
             return false;
         }
-        // Its neighbours are tested first: their cache lines load meanwhile.
-        for a in mesh.raw_adj(start) {
-            mesh.prefetch(a >> 2);
-        }
+        mesh.prefetch_neighbors(start);
         self.stack.push(start);
         while let Some(c) = self.stack.pop() {
             let adj = mesh.raw_adj(c);
@@ -237,11 +234,7 @@ impl Kernel {
                 let conflict = same && in_conflict(mesh, &filter, u, p);
                 if conflict || (same && absorb(u)) {
                     if conflict {
-                        // Its neighbours are tested next: their cache lines load
-                        // meanwhile.
-                        for a in mesh.raw_adj(u) {
-                            mesh.prefetch(a >> 2);
-                        }
+                        mesh.prefetch_neighbors(u);
                     }
                     self.marks[u as usize] = IN;
                     self.cavity.push(u);
