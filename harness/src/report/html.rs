@@ -148,6 +148,14 @@ pub fn page(run: &RunData, plots: &[Plot], out: &Path) -> String {
     for m in 0..run.models.len() {
         s += &model_section(run, plots, m);
     }
+    s += "<h2>Issue targets</h2>\n";
+    for (title, t) in super::targets::targets(run) {
+        s += &format!(
+            "<h3>{}</h3>\n<div class=\"wide\">{}</div>\n",
+            html_escape(&title),
+            to_html(&t)
+        );
+    }
     s += "<h2>Table 1 (layout of the paper)</h2>\n";
     s += &format!(
         "<div class=\"wide\">{}</div>\n",

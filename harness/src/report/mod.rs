@@ -1,8 +1,8 @@
 //! Reports from recorded runs: tables in the layout of the paper's Table 1, plots, HTML.
 //!
 //! `harness report RUN_DIR [--out DIR]` reads `RUN_DIR/results.jsonl` only (it never runs
-//! a mesher) and writes `table.md`, `table.tex`, one SVG and one PNG per plot and
-//! `index.html`; with `--history FILE` also the nightly trend plots ([`trend`], from
+//! a mesher) and writes `table.md`, `targets.md` (the issues' targets per model,
+//! [`targets`]), `table.tex`, one SVG and one PNG per plot and `index.html`; with `--history FILE` also the nightly trend plots ([`trend`], from
 //! [`history`]).
 //! Lines that do not parse as a [`Record`] are skipped with a warning naming the line, so
 //! a report still comes out of a run written by an older or newer harness.
@@ -17,6 +17,7 @@ pub mod html;
 pub mod plots;
 pub mod render;
 pub mod table;
+pub mod targets;
 pub mod trend;
 
 use std::path::{Path, PathBuf};
@@ -111,6 +112,9 @@ pub fn write_report_with(
     let md = out.join("table.md");
     write_file(&md, &table::markdown(&run))?;
     files.push(md);
+    let goals = out.join("targets.md");
+    write_file(&goals, &targets::markdown(&run))?;
+    files.push(goals);
     let tex = out.join("table.tex");
     write_file(&tex, &table::latex(&run))?;
     files.push(tex);
