@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The main job: the comparison report of the mesher and its peers on the ci tier, with
 # the dirty tier's rows (each with its status), in reports/latest/ (index.html, table.md,
-# table.tex, plots; the records in reports/latest/run/).
+# targets.md, table.tex, plots; the records in reports/latest/run/).
 #
 # Idempotent setup first (apt peers, the Python venv, the corpus data), then a release
 # build and `harness compare` with every registered runner: tetgen, tetgen-y, cgal,
