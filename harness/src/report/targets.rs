@@ -46,6 +46,11 @@ impl Cell {
         Cell("·".into(), None)
     }
 
+    /// A check that binds only where `binding` (else the figure alone).
+    fn binding(text: String, holds: bool, binding: bool) -> Cell {
+        Cell(text, binding.then_some(holds))
+    }
+
     fn render(&self) -> String {
         match self.1 {
             Some(true) => format!("{} ✓", self.0),
@@ -111,11 +116,9 @@ fn issue4(run: &RunData, m: usize) -> [Cell; 3] {
     // Neither records its own meshing time: the processes' wall times, reading and
     // writing included on both sides.
     let seconds = |r: &Record| r.mesh_seconds.or(r.wall_seconds);
-    let time = match ratio(ours.and_then(seconds), tg.and_then(seconds)) {
-        Some(x) if nightly(run, m) => Cell::of(format!("{x:.2}"), x <= 1.0),
-        Some(x) => Cell(format!("{x:.2}"), None),
-        None => Cell::none(),
-    };
+    let time = ratio(ours.and_then(seconds), tg.and_then(seconds)).map_or_else(Cell::none, |x| {
+        Cell::binding(format!("{x:.2}"), x <= 1.0, nightly(run, m))
+    });
     let kept = match ours.and_then(|r| r.validity.as_ref()?.boundary_kept) {
         Some(k) => Cell::of(if k { "kept" } else { "split" }.into(), k),
         None => Cell::none(),
@@ -126,16 +129,15 @@ fn issue4(run: &RunData, m: usize) -> [Cell; 3] {
 /// Issue 5's checks of model `m`.
 fn issue5(run: &RunData, m: usize) -> [Cell; 4] {
     let (Some(ours), hxt) = (ok(run, m, OURS), ok(run, m, HXT)) else {
-        return [Cell::none(), Cell::none(), Cell::none(), Cell::none()];
+        return std::array::from_fn(|_| Cell::none());
     };
     let iterations = ours
         .iterations
         .map_or_else(Cell::none, |n| Cell::of(n.to_string(), n <= 30));
-    let band = match ours.edge_band.as_ref().map(|b| b.in_band_percent) {
-        Some(p) if fine(run, m) => Cell::of(format!("{p:.1}"), p >= 90.0),
-        Some(p) => Cell(format!("{p:.1}"), None),
-        None => Cell::none(),
-    };
+    let band = ours.edge_band.as_ref().map_or_else(Cell::none, |b| {
+        let p = b.in_band_percent;
+        Cell::binding(format!("{p:.1}"), p >= 90.0, fine(run, m))
+    });
     let tets = match ratio(
         ours.tets.map(|t| t as f64),
         hxt.and_then(|r| r.tets.map(|t| t as f64)),
@@ -153,30 +155,19 @@ fn issue5(run: &RunData, m: usize) -> [Cell; 4] {
 /// Issue 6's checks of model `m`.
 fn issue6(run: &RunData, m: usize) -> [Cell; 5] {
     let Some(ours) = ok(run, m, OURS) else {
-        return [
-            Cell::none(),
-            Cell::none(),
-            Cell::none(),
-            Cell::none(),
-            Cell::none(),
-        ];
+        return std::array::from_fn(|_| Cell::none());
     };
     let peers = boundary_peers(run, m);
     let hxt = ok(run, m, HXT);
     let info = &run.models[m];
-    let best_worst = peers
-        .iter()
-        .filter_map(|r| worst(r))
-        .fold(f64::INFINITY, f64::min);
     let ours_worst = worst(ours).unwrap_or(f64::INFINITY);
-    let vs_peers = if best_worst.is_finite() || peers.iter().any(|r| worst(r).is_some()) {
+    let best_worst = peers.iter().filter_map(|r| worst(r)).reduce(f64::min);
+    let vs_peers = best_worst.map_or_else(Cell::none, |best| {
         Cell::of(
-            format!("{} / {}", fmt_q(ours_worst), fmt_q(best_worst)),
-            ours_worst <= best_worst,
+            format!("{} / {}", fmt_q(ours_worst), fmt_q(best)),
+            ours_worst <= best,
         )
-    } else {
-        Cell::none()
-    };
+    });
     let q_t = info.q_t_domain.or(info.q_t);
     let vs_qt = match (info.q_t, q_t) {
         (Some(qt), Some(bar)) if qt >= 2.0 => Cell::of(
@@ -189,15 +180,10 @@ fn issue6(run: &RunData, m: usize) -> [Cell; 5] {
     let shape = if fine(run, m) {
         Cell::of(format!("{share:.2} / 99"), share >= 99.0)
     } else {
-        let best = peers
-            .iter()
-            .filter_map(|r| well_shaped(r))
-            .fold(f64::NAN, f64::max);
-        if best.is_nan() {
-            Cell::none()
-        } else {
+        let best = peers.iter().filter_map(|r| well_shaped(r)).reduce(f64::max);
+        best.map_or_else(Cell::none, |best| {
             Cell::of(format!("{share:.2} / {best:.2}"), share >= best)
-        }
+        })
     };
     let angle = |r: &Record| r.quality.as_ref().map(|q| q.min_dihedral);
     let dihedral = match (angle(ours), hxt.and_then(angle)) {
@@ -205,11 +191,9 @@ fn issue6(run: &RunData, m: usize) -> [Cell; 5] {
         _ => Cell::none(),
     };
     let rate = |r: &Record| ratio(r.tets.map(|t| t as f64), r.mesh_seconds);
-    let speed = match ratio(rate(ours), hxt.and_then(rate)) {
-        Some(x) if nightly(run, m) => Cell::of(format!("{x:.2}"), x >= 1.0),
-        Some(x) => Cell(format!("{x:.2}"), None),
-        None => Cell::none(),
-    };
+    let speed = ratio(rate(ours), hxt.and_then(rate)).map_or_else(Cell::none, |x| {
+        Cell::binding(format!("{x:.2}"), x >= 1.0, nightly(run, m))
+    });
     [vs_peers, vs_qt, shape, dihedral, speed]
 }
 
@@ -223,16 +207,13 @@ pub fn targets(run: &RunData) -> Vec<(String, Table)> {
     };
     let mut out = Vec::new();
     let mut table = |title: &str, header: &[&str], rows: Vec<(usize, Vec<Cell>)>| {
-        let held = rows
-            .iter()
-            .flat_map(|r| &r.1)
-            .filter(|c| c.1 == Some(true))
-            .count();
-        let missed = rows
-            .iter()
-            .flat_map(|r| &r.1)
-            .filter(|c| c.1 == Some(false))
-            .count();
+        let count = |v: bool| {
+            rows.iter()
+                .flat_map(|r| &r.1)
+                .filter(|c| c.1 == Some(v))
+                .count()
+        };
+        let (held, missed) = (count(true), count(false));
         let mut t = Table {
             header: std::iter::once("model")
                 .chain(header.iter().copied())
@@ -312,6 +293,14 @@ mod tests {
         load_records(&path).unwrap().records
     }
 
+    /// The fixture's record of the sphere by `mesher`.
+    fn sphere(recs: &[Record], mesher: &str) -> Record {
+        recs.iter()
+            .find(|r| r.model == "sphere1k" && r.mesher == mesher)
+            .unwrap()
+            .clone()
+    }
+
     /// A copy of `r` as the record of mesher `id`.
     fn as_mesher(r: &Record, id: &str) -> Record {
         let mut r = r.clone();
@@ -322,20 +311,13 @@ mod tests {
     #[test]
     fn checks_compare_ours_with_the_peers_of_the_same_model() {
         let recs = fixture();
-        let tetgen = recs
-            .iter()
-            .find(|r| r.model == "sphere1k" && r.mesher == "tetgen-y")
-            .unwrap();
-        let hxt = recs
-            .iter()
-            .find(|r| r.model == "sphere1k" && r.mesher == "gmsh-hxt")
-            .unwrap();
-        let mut ours = as_mesher(tetgen, OURS);
+        let tetgen = sphere(&recs, "tetgen-y");
+        let mut ours = as_mesher(&tetgen, OURS);
         ours.iterations = Some(12);
         ours.mesh_seconds = Some(0.5);
-        let mut hxt = hxt.clone();
+        let mut hxt = sphere(&recs, "gmsh-hxt");
         hxt.mesh_seconds = Some(1.0);
-        let run = RunData::new(vec![ours, tetgen.clone(), hxt]);
+        let run = RunData::new(vec![ours, tetgen, hxt]);
         let m = 0;
         // Worst 9.15 against the best peer's (HXT 3.33): misses; iterations hold.
         let six = issue6(&run, m);
@@ -352,12 +334,7 @@ mod tests {
 
     #[test]
     fn a_missing_peer_leaves_the_check_undone() {
-        let recs = fixture();
-        let tetgen = recs
-            .iter()
-            .find(|r| r.model == "sphere1k" && r.mesher == "tetgen-y")
-            .unwrap();
-        let run = RunData::new(vec![as_mesher(tetgen, OURS)]);
+        let run = RunData::new(vec![as_mesher(&sphere(&fixture(), "tetgen-y"), OURS)]);
         let five = issue5(&run, 0);
         assert_eq!(five[2].1, None);
         assert_eq!(five[3].1, None);
