@@ -63,14 +63,34 @@ pub struct MesherStats {
     /// One entry per front iteration.
     #[serde(default)]
     pub iterations: Vec<FrontIteration>,
+    /// Seconds of the library call (`mesher::mesh`), reading and writing excluded.
+    #[serde(default)]
+    pub time_total: Option<f64>,
+    /// Seconds of the optimisation (paper §6) within it.
+    #[serde(default)]
+    pub time_optimize: Option<f64>,
 }
 
-/// The front iterations in a `mesher mesh --stats` file; `None` when the file is absent
-/// or unreadable (the record then simply has no series).
-pub fn read_front(path: &Path) -> Option<Vec<FrontIteration>> {
-    let text = std::fs::read_to_string(path).ok()?;
-    let stats: MesherStats = serde_json::from_str(&text).ok()?;
-    (!stats.iterations.is_empty()).then_some(stats.iterations)
+impl MesherStats {
+    /// The statistics in a `mesher mesh --stats` file; `None` when the file is absent or
+    /// unreadable (the record then simply has no series and no share).
+    pub fn read(path: &Path) -> Option<MesherStats> {
+        let text = std::fs::read_to_string(path).ok()?;
+        serde_json::from_str(&text).ok()
+    }
+
+    /// The front iterations, `None` when there are none.
+    pub fn front(&self) -> Option<Vec<FrontIteration>> {
+        (!self.iterations.is_empty()).then(|| self.iterations.clone())
+    }
+
+    /// The optimisation's share of the library call's time, in percent.
+    pub fn optimize_share(&self) -> Option<f64> {
+        match (self.time_optimize, self.time_total) {
+            (Some(o), Some(t)) if t > 0.0 => Some(100.0 * o / t),
+            _ => None,
+        }
+    }
 }
 
 /// One measured run.
@@ -158,6 +178,10 @@ pub struct Record {
     /// Per-iteration front statistics (ours only).
     #[serde(default)]
     pub front: Option<Vec<FrontIteration>>,
+    /// Percent of our mesher's own time (`mesh_seconds`) spent in the optimisation, as
+    /// its statistics time it (ours only; issue 6 bounds it).
+    #[serde(default)]
+    pub optimize_share: Option<f64>,
 }
 
 impl Record {
@@ -226,6 +250,7 @@ pub const CSV_COLUMNS: &[&str] = &[
     "exit_code",
     "signal",
     "iterations",
+    "optimize_share_percent",
     "git_revision",
     "machine",
     "finished_at",
@@ -300,6 +325,7 @@ impl Record {
             opt(self.exit_code),
             opt(self.signal),
             opt(self.iterations),
+            opt(self.optimize_share),
             self.git_revision.clone(),
             self.machine.clone(),
             self.finished_at.clone(),

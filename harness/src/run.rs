@@ -526,9 +526,13 @@ fn measure(
 ) -> Record {
     rec.mesher_version = out.version.clone();
     set_stats(&mut rec, &out.stats);
-    // Ours writes its front statistics there (`mesher mesh --stats`).
-    rec.front = records::read_front(&work.join(crate::runners::ours::STATS_NAME));
+    // Ours writes its front statistics and phase times there (`mesher mesh --stats`).
+    let stats = records::MesherStats::read(&work.join(crate::runners::ours::STATS_NAME));
+    rec.front = stats.as_ref().and_then(records::MesherStats::front);
     rec.iterations = rec.front.as_ref().map(Vec::len);
+    rec.optimize_share = stats
+        .as_ref()
+        .and_then(records::MesherStats::optimize_share);
     let mesh = match mesher::io::read_volume(&out.mesh) {
         Ok(m) => m,
         Err(e) => {
@@ -641,6 +645,7 @@ fn blank_record(ctx: &Context_, model: &Model, info: &crate::runners::PeerInfo) 
         edge_length: None,
         configuration: Some(info.configuration.clone()),
         front: None,
+        optimize_share: None,
     }
 }
 
