@@ -38,6 +38,7 @@ mod fan;
 pub(crate) mod flips;
 mod insert;
 pub(crate) mod local;
+mod present;
 mod reconnect;
 mod recover;
 mod split;
@@ -54,9 +55,9 @@ use crate::geom::{Aabb, Point};
 use crate::surface::{sorted_ids, Surface};
 use crate::tetmesh::{TetMesh, VertexId};
 use crate::volume::VolumeMesh;
-use crate::FastSet;
 use flips::Locks;
 use local::Local;
+use present::{all_faces_present, edges_now, faces_lost, faces_now, lock_edge, FaceMarks, Here};
 use recover::{Recovery, Stuck};
 use serde::Serialize;
 use split::Refined;
@@ -362,8 +363,11 @@ fn boundary_attempt(
         fresh.clear();
         report.time_delaunay += t1.elapsed().as_secs_f64();
         let t2 = Instant::now();
-        let bad;
-        (stuck, bad) = recover_all(
+        let Recovered {
+            stuck: left,
+            bad,
+            marks,
+        } = recover_all(
             &mut cur.rec,
             &work.surface,
             &edges,
@@ -372,6 +376,7 @@ fn boundary_attempt(
             &mut report,
             round,
         )?;
+        stuck = left;
         // Steiner points found exactly on an input entity are dropped; the mesh that
         // has them is not reused.
         steiner_points.retain(|p| !bad.contains(p));
@@ -397,7 +402,7 @@ fn boundary_attempt(
                 let inside = inside_vertices(&rec, &work, &sv)?;
                 suppress(&mut rec, &mut steiner, &inside, &mut report);
             }
-            let bm = finish(rec, &work, sv, steiner, &mut report)?;
+            let bm = finish(rec, &work, sv, steiner, marks, &mut report)?;
             report.time_domain = t3.elapsed().as_secs_f64();
             return Ok((bm, report));
         }
@@ -788,8 +793,15 @@ fn recover_all(
     options: &BoundaryOptions,
     report: &mut BoundaryReport,
     round: usize,
-) -> Result<(Vec<Entity>, Vec<Point>), BoundaryError> {
+) -> Result<Recovered, BoundaryError> {
     let m = |i: u32| sv[i as usize].0;
+    if let Some(marks) = all_faces_present(rec, surface, edges, sv) {
+        return Ok(Recovered {
+            stuck: Vec::new(),
+            bad: Vec::new(),
+            marks: Some(marks),
+        });
+    }
     let mut is_surface = vec![false; rec.l.mesh.num_vertices()];
     for v in sv {
         is_surface[v.index()] = true;
@@ -940,115 +952,21 @@ fn recover_all(
         );
     }
     // Faces skipped because an edge is stuck are covered by that edge's entry.
-    Ok((stuck, bad))
+    Ok(Recovered {
+        stuck,
+        bad,
+        marks: None,
+    })
 }
 
-/// Whether an input edge or triangle is in the mesh ([`edges_now`], [`faces_now`]).
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Here {
-    /// Locked (kept by an incremental round): present, and nothing to lock.
-    Locked,
-    /// Present, not locked yet.
-    Present,
-    Missing,
-}
-
-impl From<bool> for Here {
-    /// Present or missing (not known to be locked).
-    fn from(present: bool) -> Here {
-        if present {
-            Here::Present
-        } else {
-            Here::Missing
-        }
-    }
-}
-
-/// Which edges (mesh vertex ids) are in the mesh: from the locks `kept` by an
-/// incremental round (exactly the locked entities still present) and a local look-up
-/// for the others; one sweep over the mesh when there are none.
-fn edges_now(rec: &mut Recovery, edges: &[(u32, u32)]) -> Vec<Here> {
-    if rec.locks.edges.is_empty() {
-        return rec
-            .l
-            .edges_present(edges)
-            .into_iter()
-            .map(Here::from)
-            .collect();
-    }
-    edges
-        .iter()
-        .map(|&(a, b)| {
-            if rec.locks.edge(a, b) {
-                Here::Locked
-            } else {
-                Here::from(rec.has_edge(a, b))
-            }
-        })
-        .collect()
-}
-
-/// Which triangles (mesh vertex ids) are faces of the mesh, as [`edges_now`]: a face
-/// `kept` is still there if no change touched its vertices since the clock `since`.
-fn faces_now(
-    rec: &mut Recovery,
-    kept: &FastSet<[u32; 3]>,
-    since: u32,
-    tris: &[[u32; 3]],
-) -> Vec<Here> {
-    if kept.is_empty() {
-        return faces_found(&rec.l, tris)
-            .into_iter()
-            .map(Here::from)
-            .collect();
-    }
-    tris.iter()
-        .map(|&f| {
-            if !rec.l.stamps.changed_since(&f, since) && kept.contains(&sorted_ids(f)) {
-                Here::Locked
-            } else {
-                Here::from(rec.has_face(f[0], f[1], f[2]))
-            }
-        })
-        .collect()
-}
-
-/// Which triangles (mesh vertex ids) are faces of the mesh.
-fn faces_found(l: &Local, tris: &[[u32; 3]]) -> Vec<bool> {
-    let mut found = vec![false; tris.len()];
-    for k in l.triangle_faces(tris).into_iter().flatten() {
-        if k != u32::MAX {
-            found[k as usize] = true;
-        }
-    }
-    found
-}
-
-/// The triangles (mesh vertex ids) that are not faces of the mesh, when every one was
-/// either a face or stuck at the clock `looked_up` ([`faces_now`]): only those with a
-/// vertex whose tets changed since are looked up again (one sweep over the mesh when
-/// they are many).
-fn faces_lost(rec: &mut Recovery, tris: &[[u32; 3]], looked_up: u32) -> Vec<u32> {
-    let changed: Vec<u32> = (0..tris.len() as u32)
-        .filter(|&k| rec.l.stamps.changed_since(&tris[k as usize], looked_up))
-        .collect();
-    if changed.len() > tris.len() / 8 {
-        let found = faces_found(&rec.l, tris);
-        return (0..tris.len() as u32)
-            .filter(|&k| !found[k as usize])
-            .collect();
-    }
-    changed
-        .into_iter()
-        .filter(|&k| {
-            let f = tris[k as usize];
-            !rec.has_face(f[0], f[1], f[2])
-        })
-        .collect()
-}
-
-fn lock_edge(rec: &mut Recovery, a: u32, b: u32) {
-    rec.locks.edges.insert((a.min(b), a.max(b)));
+/// What a recovery round left.
+struct Recovered {
+    /// The entities still missing.
+    stuck: Vec<Entity>,
+    /// Steiner points found exactly on an input entity (to drop).
+    bad: Vec<Point>,
+    /// The face marks when every triangle was a face at once ([`all_faces_present`]).
+    marks: Option<FaceMarks>,
 }
 
 /// The error for a mesh vertex found exactly on an input entity.
@@ -1158,6 +1076,7 @@ fn finish(
     work: &Refined,
     surface_vertex: Vec<VertexId>,
     steiner: Vec<VertexId>,
+    marks: Option<FaceMarks>,
     report: &mut BoundaryReport,
 ) -> Result<BoundaryMesh, BoundaryError> {
     let mesh_tris: Vec<[u32; 3]> = work
@@ -1166,7 +1085,10 @@ fn finish(
         .iter()
         .map(|t| t.map(|i| surface_vertex[i as usize].0))
         .collect();
-    let marks = rec.l.triangle_faces(&mesh_tris);
+    let marks = match marks {
+        Some(f) if f.clock == rec.l.stamps.clock => f.marks,
+        _ => rec.l.triangle_faces(&mesh_tris),
+    };
     let mesh = rec.l.mesh;
     let mut constrained = HashMap::with_capacity(mesh_tris.len());
     for (t, &k) in mesh_tris.iter().zip(&work.parent) {

@@ -60,6 +60,34 @@ fn box_delaunay_is_valid() {
     }
 }
 
+/// A fresh round on a surface whose every triangle is already a face (an icosphere's
+/// Delaunay mesh) locks every edge and face at once and hands over face marks equal to
+/// a fresh sweep; a round where some are missing takes the general path (no marks).
+#[test]
+fn a_round_with_every_face_present_locks_all_and_keeps_its_marks() {
+    let opts = BoundaryOptions::default();
+    let s = icosphere(2);
+    let edges = input_edges(&s, EdgeOrder::Sorted);
+    let (mesh, sv, _) = delaunay(&s, &[], &opts).unwrap();
+    let mut rec = Recovery::new(Local::new(mesh));
+    let mut report = BoundaryReport::default();
+    let done = recover_all(&mut rec, &s, &edges, &sv, &opts, &mut report, 0).unwrap();
+    assert!(done.stuck.is_empty() && done.bad.is_empty());
+    assert_eq!((report.missing_edges, report.missing_faces), (0, 0));
+    assert_eq!(rec.locks.faces.len(), s.triangles.len());
+    assert_eq!(rec.locks.edges.len(), edges.len());
+    let tris: Vec<[u32; 3]> = s
+        .triangles
+        .iter()
+        .map(|t| t.map(|i| sv[i as usize].0))
+        .collect();
+    let marks = done.marks.expect("every face present: marks kept");
+    assert_eq!(marks.marks, rec.l.triangle_faces(&tris));
+    // Locked entities already: the general path.
+    let again = recover_all(&mut rec, &s, &edges, &sv, &opts, &mut report, 0).unwrap();
+    assert!(again.marks.is_none());
+}
+
 /// A developer's tool: what blocks the first stuck edges of `MODEL` (a surface file)
 /// before any Steiner round. `MODEL=path cargo test -p mesher --lib debug_model --
 /// --ignored --nocapture`.
@@ -78,7 +106,9 @@ fn debug_model() {
     let (mesh, sv, _) = delaunay(&s, &[], &opts).unwrap();
     let mut rec = Recovery::new(Local::new(mesh));
     let mut report = BoundaryReport::default();
-    let (stuck, _) = recover_all(&mut rec, &s, &edges, &sv, &opts, &mut report, 0).unwrap();
+    let stuck = recover_all(&mut rec, &s, &edges, &sv, &opts, &mut report, 0)
+        .unwrap()
+        .stuck;
     eprintln!("stuck {} of missing {}", stuck.len(), report.missing_edges);
     let m = |i: u32| sv[i as usize].0;
     for e in stuck.iter().take(3) {
