@@ -80,8 +80,8 @@ impl MesherStats {
     }
 
     /// The front iterations, `None` when there are none.
-    pub fn front(&self) -> Option<Vec<FrontIteration>> {
-        (!self.iterations.is_empty()).then(|| self.iterations.clone())
+    pub fn into_front(self) -> Option<Vec<FrontIteration>> {
+        (!self.iterations.is_empty()).then_some(self.iterations)
     }
 
     /// The optimisation's share of the library call's time, in percent.

@@ -528,11 +528,11 @@ fn measure(
     set_stats(&mut rec, &out.stats);
     // Ours writes its front statistics and phase times there (`mesher mesh --stats`).
     let stats = records::MesherStats::read(&work.join(crate::runners::ours::STATS_NAME));
-    rec.front = stats.as_ref().and_then(records::MesherStats::front);
-    rec.iterations = rec.front.as_ref().map(Vec::len);
     rec.optimize_share = stats
         .as_ref()
         .and_then(records::MesherStats::optimize_share);
+    rec.front = stats.and_then(records::MesherStats::into_front);
+    rec.iterations = rec.front.as_ref().map(Vec::len);
     let mesh = match mesher::io::read_volume(&out.mesh) {
         Ok(m) => m,
         Err(e) => {
