@@ -48,8 +48,12 @@ pub(super) struct Ops {
     scratch: Vec<u32>,
     /// Per tet slot: the vertices it had and its `Q_K` when last computed. An entry
     /// whose vertices differ from the slot's (the slot was reused) is stale; a moved
-    /// vertex clears its ball's entries ([`Self::smooth`]). The passes rescan every tet,
-    /// and most of them are unchanged since the last scan.
+    /// vertex clears its ball's entries ([`Self::smooth`]), and a change clears its new
+    /// tets' ([`Self::claim`]): a slot freed before a vertex of its tet moved can come
+    /// back with the same four vertices (a flip undone by a later flip; the free slots
+    /// are a stack), and its entry then had the old position's `Q_K` (fuzz regression
+    /// `mesh/stale_qk_cache.bin`). The passes rescan every tet, and most of them are
+    /// unchanged since the last scan.
     qcache: Vec<Cell<([u32; 4], f64)>>,
     /// Edge removals (key: the edge as called), vertex moves (key: `(v, v)`) and edge
     /// collapses (key: `(kept, removed)`) that failed, with the clock then
@@ -167,7 +171,7 @@ impl Ops {
         max_until(tets.iter().map(|&t| self.quality(self.l.tet(t))), bound)
     }
 
-    /// Gives the tets of the last replace the region `r`.
+    /// Gives the tets of the last replace the region `r` and no cached `Q_K`.
     fn claim(&mut self, r: u32) {
         let n = self.l.mesh.num_slots();
         if self.region.len() < n {
@@ -178,6 +182,7 @@ impl Ops {
         }
         for &t in &self.l.created {
             self.region[t as usize] = r;
+            self.qcache[t as usize].set(STALE);
         }
     }
 
