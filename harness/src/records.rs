@@ -178,8 +178,8 @@ pub struct Record {
     /// Per-iteration front statistics (ours only).
     #[serde(default)]
     pub front: Option<Vec<FrontIteration>>,
-    /// Percent of our mesher's own time (`mesh_seconds`) spent in the optimisation, as
-    /// its statistics time it (ours only; issue 6 bounds it).
+    /// Percent of our mesher's library call (`time_total` of its statistics, the last
+    /// repeat's) spent in the optimisation (ours only; issue 6 bounds it).
     #[serde(default)]
     pub optimize_share: Option<f64>,
 }

@@ -507,13 +507,11 @@ fn fastest_of_repeats(
 /// (`mesh_seconds`), or for our mesher the library call's time in its statistics
 /// (`time_total`: without reading the surface and writing the mesh, like the drivers').
 fn mesh_seconds(work: &Path) -> Option<f64> {
-    let read = |name: &str, key: &str| {
-        std::fs::read_to_string(work.join(name))
-            .ok()
-            .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
-            .and_then(|m| m[key].as_f64())
-    };
-    read("meta.json", "mesh_seconds").or_else(|| read(STATS_NAME, "time_total"))
+    std::fs::read_to_string(work.join("meta.json"))
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+        .and_then(|m| m["mesh_seconds"].as_f64())
+        .or_else(|| records::MesherStats::read(&work.join(STATS_NAME))?.time_total)
 }
 
 fn measure(

@@ -2,8 +2,8 @@
 //!
 //! `harness report RUN_DIR [--out DIR]` reads `RUN_DIR/results.jsonl` only (it never runs
 //! a mesher) and writes `table.md`, `targets.md` (the issues' targets per model,
-//! [`targets`]), `table.tex`, one SVG and one PNG per plot and `index.html`; with `--history FILE` also the nightly trend plots ([`trend`], from
-//! [`history`]).
+//! [`targets`]), `table.tex`, one SVG and one PNG per plot and `index.html`; with
+//! `--history FILE` also the nightly trend plots ([`trend`], from [`history`]).
 //! Lines that do not parse as a [`Record`] are skipped with a warning naming the line, so
 //! a report still comes out of a run written by an older or newer harness.
 //!
