@@ -377,7 +377,7 @@ fn random_descent_jumps_to_the_better_basin() {
     let start = a + Point::new(0.01, 0.0, 0.0);
     let (c, _) = crate::geom::search::compass(score, start, score(start), 0.05);
     assert!(c > 0.99, "the compass left its basin: {c}");
-    let (p, v) = super::ops::random_descent(score, start, score(start), 1.0);
+    let (p, v) = super::ops::random_descent_below(|q, _| score(q), start, score(start), 1.0);
     assert!(v < 0.52 && p.distance(b) < 0.005, "{v} at {p:?}");
 }
 

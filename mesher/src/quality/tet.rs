@@ -190,6 +190,15 @@ pub fn min_dihedral(p: &[Point; 4]) -> f64 {
     dihedral_min_max(p).0
 }
 
+/// [`q_k`] and [`min_dihedral`] of one tet, the shared terms computed once (the same
+/// values as the two calls).
+#[inline]
+pub fn q_k_and_min_dihedral(p: &[Point; 4]) -> (f64, f64) {
+    let g = TetGeom::new(p);
+    let angles: [f64; 6] = std::array::from_fn(|e| g.dihedral(e));
+    (g.q_k(), min_max(&angles).0)
+}
+
 /// Largest dihedral angle in degrees.
 #[inline]
 pub fn max_dihedral(p: &[Point; 4]) -> f64 {
@@ -276,6 +285,17 @@ mod tests {
             Point::new(-1.0, 1.0, -1.0),
             Point::new(-1.0, -1.0, 1.0),
         ]
+    }
+
+    #[test]
+    fn fused_q_k_and_angle_are_the_two_calls_bit_for_bit() {
+        let mut p = regular();
+        for k in 0..50 {
+            p[3] += Point::new(0.13, -0.07, 0.021 * k as f64);
+            let (q, a) = q_k_and_min_dihedral(&p);
+            assert_eq!(q.to_bits(), q_k(&p).to_bits());
+            assert_eq!(a.to_bits(), min_dihedral(&p).to_bits());
+        }
     }
 
     #[test]
