@@ -10,9 +10,16 @@
 
 use crate::geom::predicates::{orient3d, Orientation, StaticFilter};
 use crate::geom::Point;
-use crate::surface::sorted_ids;
 use crate::tetmesh::{FaceRef, TetId, TetMesh, VertexId, FACE_VERTICES};
 use crate::FastMap as HashMap;
+
+mod marks;
+mod stamps;
+mod triangles;
+
+pub(crate) use marks::Marks;
+pub(crate) use stamps::Stamps;
+use triangles::TrianglesByMin;
 
 pub(crate) const GHOST: u32 = VertexId::GHOST.0;
 
@@ -942,69 +949,6 @@ impl Local {
     }
 }
 
-/// Per vertex: the value of `clock` when a tet at it last changed (made, or reshaped
-/// by a move). Every [`Local::replace`] stamps the vertices of the tets it makes; a
-/// vertex move is stamped by its caller. A local operation that reads only the tets at
-/// some vertices and is deterministic fails again while none of them has changed, so
-/// callers remember a failure with the clock and retry only after a change.
-#[derive(Debug, Default)]
-pub(crate) struct Stamps {
-    stamp: Vec<u32>,
-    /// Changes so far.
-    pub clock: u32,
-}
-
-impl Stamps {
-    /// Records a change at the vertices `verts` (one tick of the clock).
-    pub fn touch(&mut self, verts: impl IntoIterator<Item = u32>) {
-        self.clock = self.clock.wrapping_add(1).max(1);
-        for x in verts {
-            let i = x as usize;
-            if i >= self.stamp.len() {
-                self.stamp.resize((i + 1).max(self.stamp.len() * 5 / 4), 0);
-            }
-            self.stamp[i] = self.clock;
-        }
-    }
-
-    /// The stamps of `verts` (repetitions included), for [`Stamps::restore`].
-    fn read<'a>(
-        &'a self,
-        verts: impl IntoIterator<Item = u32> + 'a,
-    ) -> impl Iterator<Item = (u32, u32)> + 'a {
-        verts
-            .into_iter()
-            .map(|x| (x, self.stamp.get(x as usize).copied().unwrap_or(0)))
-    }
-
-    /// Puts back stamps saved by [`Stamps::read`].
-    fn restore(&mut self, saved: &[(u32, u32)]) {
-        for &(x, s) in saved.iter().rev() {
-            if let Some(slot) = self.stamp.get_mut(x as usize) {
-                *slot = s;
-            }
-        }
-    }
-
-    /// The stamp of vertex `x`: the clock of the last change at it (restored by an
-    /// undo), so equal stamps mean the same tets at `x`.
-    pub fn of(&self, x: u32) -> u32 {
-        self.stamp.get(x as usize).copied().unwrap_or(0)
-    }
-
-    /// The vertices at which a tet changed after the clock read `since`.
-    pub fn touched_since(&self, since: u32) -> impl Iterator<Item = u32> + '_ {
-        (0..self.stamp.len() as u32).filter(move |&x| self.stamp[x as usize] > since)
-    }
-
-    /// True when a tet at one of `verts` changed after the clock read `since`.
-    pub fn changed_since(&self, verts: &[u32], since: u32) -> bool {
-        verts
-            .iter()
-            .any(|&x| self.stamp.get(x as usize).is_some_and(|&s| s > since))
-    }
-}
-
 #[derive(Clone, Copy, Debug)]
 enum Link {
     Outer(FaceRef),
@@ -1012,185 +956,4 @@ enum Link {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn triangles_are_found_by_their_smallest_vertex_in_any_order() {
-        for t in [
-            [0, 1, 2],
-            [2, 0, 1],
-            [1, 2, 0],
-            [2, 1, 0],
-            [0, 2, 1],
-            [1, 0, 2],
-        ] {
-            assert_eq!(sorted_ids(t), [0, 1, 2]);
-        }
-        let tris = [[3, 1, 2], [1, 4, 3], [5, 3, 4], [2, 3, 1]];
-        let by_min = TrianglesByMin::new(&tris, 4);
-        assert_eq!(by_min.find([4, 3, 1]), Some(1));
-        assert_eq!(by_min.find([3, 4, 5]), Some(2));
-        // Listed twice (the same three vertices): the last one, as a hash map keeps.
-        assert_eq!(by_min.find([1, 2, 3]), Some(3));
-        assert_eq!(by_min.find([1, 2, 4]), None);
-        // Vertices beyond any listed triangle (or the mesh) are not there.
-        assert_eq!(by_min.find([7, 8, 9]), None);
-        assert_eq!(by_min.find([0, 1, 2]), None);
-    }
-
-    fn two_tets() -> Local {
-        // Tets (p, q, r, d) and (q, p, r, e) sharing face pqr, with de through it.
-        let pts = vec![
-            Point::new(1.0, 0.0, 0.0),
-            Point::new(0.0, 1.0, 0.0),
-            Point::new(-1.0, -1.0, 0.0),
-            Point::new(0.0, 0.0, 1.0),
-            Point::new(0.0, 0.0, -1.0),
-        ];
-        let mesh = TetMesh::from_tets(pts, &[[0, 1, 2, 3], [1, 0, 2, 4]]).unwrap();
-        mesh.validate(false).unwrap();
-        Local::new(mesh)
-    }
-
-    #[test]
-    fn flip23_then_32_restores_two_tets() {
-        let mut l = two_tets();
-        let old: Vec<u32> = l.mesh.finite_tets().map(|t| t.0).collect();
-        let new = [[0, 1, 4, 3], [1, 2, 4, 3], [2, 0, 4, 3]];
-        l.replace(&old, &new).unwrap();
-        l.mesh.validate(false).unwrap();
-        assert_eq!(l.mesh.num_finite_tets(), 3);
-        let mut s = Vec::new();
-        let ring = l.ring(3, 4, &mut s).unwrap();
-        assert_eq!(ring.len(), 3);
-        let old: Vec<u32> = ring.iter().map(|r| r.0).collect();
-        l.replace(&old, &[[0, 1, 2, 3], [1, 0, 2, 4]]).unwrap();
-        l.mesh.validate(false).unwrap();
-        assert!(l.has_face(0, 1, 2, &mut s));
-    }
-
-    #[test]
-    fn inverted_or_mismatched_sets_are_refused_and_nothing_changes() {
-        let mut l = two_tets();
-        let old: Vec<u32> = l.mesh.finite_tets().map(|t| t.0).collect();
-        assert_eq!(
-            l.replace(&old, &[[1, 0, 4, 3], [1, 2, 4, 3], [2, 0, 4, 3]]),
-            Err(Refused::NotPositive)
-        );
-        assert_eq!(
-            l.replace(&old, &[[0, 1, 4, 3], [1, 2, 4, 3]]),
-            Err(Refused::Mismatch)
-        );
-        l.mesh.validate(false).unwrap();
-        assert_eq!(l.mesh.num_finite_tets(), 2);
-    }
-
-    #[test]
-    fn a_move_out_of_the_box_turns_the_static_filter_off() {
-        let mut l = two_tets();
-        assert_eq!(l.filtered, 5);
-        l.set_point(3, Point::new(0.0, 0.0, 0.5));
-        assert_eq!(l.filtered, 5, "a move inside the box keeps it");
-        l.set_point(3, Point::new(1e9, 1e9, 1e-12));
-        assert_eq!(l.filtered, 0);
-        assert_eq!(l.orient(0, 1, 2, 3), Orientation::Positive);
-    }
-
-    #[test]
-    fn a_face_listed_more_than_twice_is_refused() {
-        let mut l = two_tets();
-        let old: Vec<u32> = l.mesh.finite_tets().map(|t| t.0).collect();
-        // The 2-3 flip with its first tet twice: its faces are then listed two or
-        // three times, never as one pair of opposite orientations.
-        let t = [[0, 1, 4, 3], [1, 2, 4, 3], [2, 0, 4, 3]];
-        let doubled = [t[0], t[1], t[2], t[0]];
-        assert_eq!(l.replace(&old, &doubled), Err(Refused::Mismatch));
-        l.mesh.validate(false).unwrap();
-        assert_eq!(l.replace(&old, &t), Ok(()));
-        l.mesh.validate(false).unwrap();
-    }
-}
-
-/// Membership marks over ids (tet slots, vertices) with an epoch, so that emptying
-/// them costs nothing: for the sets a local operation builds many times.
-#[derive(Debug, Default)]
-pub(crate) struct Marks {
-    mark: Vec<u32>,
-    epoch: u32,
-}
-
-impl Marks {
-    /// Empties the marks, for ids below `n`.
-    pub fn clear(&mut self, n: usize) {
-        if self.mark.len() < n {
-            self.mark.resize(n, 0);
-        }
-        self.epoch = self.epoch.wrapping_add(1);
-        if self.epoch == 0 {
-            self.mark.fill(0);
-            self.epoch = 1;
-        }
-    }
-
-    /// Marks `i`; true when it was not marked.
-    pub fn insert(&mut self, i: u32) -> bool {
-        let m = &mut self.mark[i as usize];
-        let fresh = *m != self.epoch;
-        *m = self.epoch;
-        fresh
-    }
-
-    /// Whether `i` is marked.
-    pub fn contains(&self, i: u32) -> bool {
-        self.mark.get(i as usize) == Some(&self.epoch)
-    }
-}
-
-/// Triangles grouped by their smallest vertex id (compressed rows), each entry the
-/// two other ids in increasing order and the triangle's index: the lookup of
-/// [`Local::triangle_faces`].
-struct TrianglesByMin {
-    /// Row `v` is `entries[start[v]..start[v + 1]]`.
-    start: Vec<u32>,
-    entries: Vec<(u32, u32, u32)>,
-}
-
-impl TrianglesByMin {
-    fn new(tris: &[[u32; 3]], num_vertices: usize) -> Self {
-        let n = tris
-            .iter()
-            .flatten()
-            .map(|&v| v as usize + 1)
-            .max()
-            .unwrap_or(0)
-            .max(num_vertices);
-        let mut start = vec![0u32; n + 1];
-        for t in tris {
-            start[sorted_ids(*t)[0] as usize + 1] += 1;
-        }
-        for v in 0..n {
-            start[v + 1] += start[v];
-        }
-        let mut fill = start.clone();
-        let mut entries = vec![(0, 0, 0); tris.len()];
-        for (k, t) in tris.iter().enumerate() {
-            let [p, q, r] = sorted_ids(*t);
-            let e = &mut fill[p as usize];
-            entries[*e as usize] = (q, r, k as u32);
-            *e += 1;
-        }
-        TrianglesByMin { start, entries }
-    }
-
-    /// The index of triangle `f` (any order), the last one listed if it is there twice.
-    fn find(&self, f: [u32; 3]) -> Option<u32> {
-        let [p, q, r] = sorted_ids(f);
-        let row = self.start.get(p as usize..p as usize + 2)?;
-        self.entries[row[0] as usize..row[1] as usize]
-            .iter()
-            .rev()
-            .find(|e| e.0 == q && e.1 == r)
-            .map(|e| e.2)
-    }
-}
+mod tests;
