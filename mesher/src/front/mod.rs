@@ -285,20 +285,6 @@ const GROSS_FACTOR: f64 = 2.0;
 /// Iterations a grossly unacceptable tet is tried before the remedial rule applies.
 const GROSS_TRIES: u8 = 3;
 
-/// A tet of field points only (no vertex of T(S,F)) with an edge longer than this many
-/// times `delta` gets [`LONG_TRIES`] iterations behind a front face before the
-/// remedial rule accepts it: off the surface nothing but the filtration's gaps keeps
-/// a point out of it, and the points placed around it meanwhile often make room.
-/// bunny00, before the optimisation: interior edges in band 89.8 -> 90.1 %, 0.6 %
-/// more tets, its front 3 % slower (median of 5); knot2, elephant, torus, sphere-1k
-/// within 0.1 point of band and `Q_K < 3`. For every tet (as [`GROSS_FACTOR`] 1.2):
-/// rotor's `Q_K < 3` 4.7 points down, fandisk-in-box's 2.2 (their tets touch the
-/// surface).
-const LONG_FACTOR: f64 = 1.2;
-
-/// See [`LONG_FACTOR`].
-const LONG_TRIES: u8 = 2;
-
 /// Front faces handled per parallel task (fixed, so results do not depend on threads).
 const CHUNK: usize = 256;
 
@@ -438,15 +424,7 @@ pub fn advance(
             }
         }
         rec.seconds_insert = t0.elapsed().as_secs_f64() - rec.seconds_propose;
-        let remedial = classify(
-            fm,
-            field,
-            params,
-            (it, first_seed),
-            &ages,
-            &active.list,
-            &mut accept,
-        );
+        let remedial = classify(fm, field, params, it, &ages, &active.list, &mut accept);
         rec.tets = tets;
         rec.remedial = remedial;
         rec.seconds = t0.elapsed().as_secs_f64();
@@ -800,13 +778,13 @@ fn insert(
 }
 
 /// Classifies the `active` tets born in iteration `it` by their edges and applies the
-/// remedial rule to the unacceptable survivors (vertices from `first_field` on are the
-/// field points); returns how many the remedial rule accepted.
+/// remedial rule to the unacceptable survivors; returns how many the remedial rule
+/// accepted.
 fn classify(
     fm: &FieldMesh,
     field: &dyn SizeField,
     params: &FrontParams,
-    (it, first_field): (u32, u32),
+    it: u32,
     ages: &Ages,
     active: &[u32],
     accept: &mut [bool],
@@ -825,20 +803,14 @@ fn classify(
                 let ok = if ages.born[tu] == it {
                     acceptable(fm, field, params, t, &mut hint)
                 } else {
-                    // A grossly unacceptable tet, or a long one off the surface, gets
-                    // a few tries before the remedial rule accepts it: the points
-                    // around it may make room meanwhile.
-                    let mut too_long = |factor: f64, tries: u8| {
+                    // A grossly unacceptable tet gets a few tries before the remedial
+                    // rule accepts it: the points around it may make room meanwhile.
+                    let mut gross = || {
                         let wide = FrontParams {
-                            delta: params.delta * factor,
+                            delta: params.delta * GROSS_FACTOR,
                             ..*params
                         };
-                        ages.tries[tu] < tries && !acceptable(fm, field, &wide, t, &mut hint)
-                    };
-                    let off_surface = || mesh.raw_tet(t).iter().all(|&v| v >= first_field);
-                    let mut gross = || {
-                        too_long(GROSS_FACTOR, GROSS_TRIES)
-                            || (off_surface() && too_long(LONG_FACTOR, LONG_TRIES))
+                        ages.tries[tu] < GROSS_TRIES && !acceptable(fm, field, &wide, t, &mut hint)
                     };
                     (params.remedial == Remedial::All || ages.tried[tu] == it) && !gross()
                 };
@@ -906,71 +878,4 @@ fn acceptable(
         let l = edge_length(field, params.mode(), pts[a], pts[b], fm.h[a], fm.h[b], hint);
         l <= params.delta
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// One tet at size 1, region 1, with the ages of a tet behind a front face once: three
-    /// edges of 1.5, two of 1.87 and one of 2.1 (over `delta` = 1.6, the last one over
-    /// 1.2 x 1.6 = 1.92 too).
-    fn one_long_tet() -> (FieldMesh, Ages, u32) {
-        let s = 1.5 / 2f64.sqrt();
-        let mut p = vec![
-            Point::new(s, 0.0, 0.0),
-            Point::new(0.0, s, 0.0),
-            Point::new(0.0, 0.0, s),
-            Point::new(s, s, s),
-        ];
-        // Stretch one edge to 2.1.
-        p[3] = p[2] + (p[3] - p[2]).normalize() * 2.1;
-        let mesh = TetMesh::from_tets(p, &[[0, 1, 2, 3]]).unwrap();
-        let t = mesh.finite_tets().next().unwrap().0;
-        let n = mesh.num_slots();
-        let mut region = vec![0; n];
-        region[t as usize] = 1;
-        let fm = FieldMesh {
-            cons: Constraints {
-                face_mask: vec![0; n],
-                region,
-            },
-            h: vec![1.0; 4],
-            hint: vec![0; 4],
-            mesh,
-        };
-        let ages = Ages {
-            born: vec![0; n],
-            tried: vec![1; n],
-            tries: vec![1; n],
-        };
-        (fm, ages, t)
-    }
-
-    /// A long tet of field points gets [`LONG_TRIES`] iterations behind the front; the
-    /// same tet with a vertex of T(S,F) is accepted by the remedial rule at once.
-    #[test]
-    fn long_tets_off_the_surface_get_more_tries() {
-        let (fm, mut ages, t) = one_long_tet();
-        let field = crate::sizing::constant(1.0).unwrap();
-        let params = FrontParams::default();
-        assert!(!acceptable(&fm, &field, &params, t, &mut 0));
-        let run = |ages: &Ages, first_field: u32| {
-            let mut accept = vec![false; fm.mesh.num_slots()];
-            let n = classify(
-                &fm,
-                &field,
-                &params,
-                (1, first_field),
-                ages,
-                &[t],
-                &mut accept,
-            );
-            (n, accept[t as usize])
-        };
-        assert_eq!(run(&ages, 0), (0, false), "field points: tried again");
-        assert_eq!(run(&ages, 1), (1, true), "a vertex of T(S,F): accepted");
-        ages.tries[t as usize] = LONG_TRIES;
-        assert_eq!(run(&ages, 0), (1, true), "field points, tried enough");
-    }
 }
