@@ -30,7 +30,7 @@
 //! (`mesh_seconds`: the library call for ours, the peers' drivers for theirs), the
 //! fastest of the run's repeats.
 
-use super::data::{RunData, HARD_FACE_LIMIT};
+use super::data::RunData;
 use super::table::{fmt_q, Section, Table};
 use crate::records::{Record, Status};
 
@@ -89,7 +89,7 @@ fn boundary_peers(run: &RunData, m: usize) -> Vec<&Record> {
 /// domain's reaches the limit.
 fn fine(run: &RunData, m: usize) -> bool {
     let info = &run.models[m];
-    info.hard_face_fraction.is_some_and(|f| f < HARD_FACE_LIMIT) && !info.surface_limited()
+    info.hard_face_fraction.is_some() && !info.surface_limited()
 }
 
 fn nightly(run: &RunData, m: usize) -> bool {

@@ -443,11 +443,10 @@ impl Ops {
         // trial point is mostly no better, and the score stops at the first tet that
         // shows it (`beat`: the value to beat). Part1's widening searched 2 k points
         // over a ball of 30 tets, a third of its whole run.
-        let mut order: Vec<(f64, usize)> = link
+        let mut order: Vec<(f64, usize)> = star
             .iter()
-            .zip(&star)
             .enumerate()
-            .map(|(k, (_, &t))| (self.min_dihedral(t), k))
+            .map(|(k, &t)| (self.min_dihedral(t), k))
             .collect();
         order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let faces: Vec<([Point; 3], f64)> = order
