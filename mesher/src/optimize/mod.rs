@@ -286,7 +286,8 @@ pub fn optimize(domain: &mut Domain, options: &OptimizeOptions) -> OptimizeRepor
 const LAST_RESORT_GAIN: f64 = 0.01;
 
 /// The last resort for the worst tet `t`, after the passes: a point in a cavity grown
-/// around it when its four vertices are fixed, else the collapse of a free vertex onto
+/// around it when its four vertices are fixed (layers of face neighbours, then the
+/// Delaunay cavity of a point, [`Ops::insert_delaunay_around`]), else the collapse of a free vertex onto
 /// a neighbour (where it lowers the ball's worst; rotor_small: a free vertex 0.003 from
 /// another, in a crowd of boundary vertices, whose moves gained 0.1 % a round at Q_K
 /// 2463, goes, 37.8), else a point that replaces the free vertices of a cavity grown 1-4
@@ -302,7 +303,7 @@ fn last_resort(ops: &mut Ops, t: u32, options: &OptimizeOptions) -> Option<LastR
         .filter(|&x| ops.fixed.get(x as usize) == Some(&false))
         .collect();
     if free.is_empty() {
-        let done = options.insert && ops.insert_grown_around(t);
+        let done = options.insert && (ops.insert_grown_around(t) || ops.insert_delaunay_around(t));
         return done.then_some(LastResort::Inserted);
     }
     // A free vertex crowded against the boundary goes, collapsed onto a neighbour, when

@@ -513,3 +513,64 @@ fn an_edge_split_lifts_the_flat_tets_of_a_fan() {
         );
     }
 }
+
+/// The last resort's Delaunay cavity (`Ops::insert_delaunay_around`): a flat tet of
+/// four fixed vertices under a shallow roof of two boundary faces (a ridge), over two
+/// tets down to a fixed apex; the cone from one new point over the three tets' Delaunay
+/// cavity lifts it.
+#[test]
+fn a_delaunay_cavity_lifts_a_flat_tet_under_a_ridge() {
+    // 0 a, 1 b, 2 c, 3 d: the ridge a-c above the diagonal b-d; 4 the apex below.
+    let points = vec![
+        Point::new(-1.0, 0.0, 0.1),
+        Point::new(0.0, -1.0, 0.0),
+        Point::new(1.0, 0.0, 0.1),
+        Point::new(0.0, 1.0, 0.0),
+        Point::new(0.0, 0.0, -1.5),
+    ];
+    let boundary = vec![
+        [0, 1, 2],
+        [0, 2, 3],
+        [0, 1, 4],
+        [1, 2, 4],
+        [2, 3, 4],
+        [3, 0, 4],
+    ];
+    let mut tets = vec![[0, 1, 2, 3], [0, 1, 3, 4], [1, 2, 3, 4]];
+    for t in &mut tets {
+        let p = t.map(|x| points[x as usize]);
+        if signed_volume(&p) < 0.0 {
+            t.swap(0, 1);
+        }
+    }
+    let mesh = TetMesh::from_tets(points, &tets).expect("a valid roof");
+    let region = vec![1; mesh.num_slots()];
+    let fixed = vec![true; mesh.num_vertices()];
+    let mut ops = ops::Ops::new(Local::new(mesh), Locks::of_faces(&boundary), region, fixed);
+    let qualities = |ops: &ops::Ops| -> Vec<(f64, u32)> {
+        ops.l
+            .mesh
+            .finite_tets()
+            .map(|t| (ops.tet_quality(t.0), t.0))
+            .collect()
+    };
+    let (before, t) = qualities(&ops)
+        .into_iter()
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .expect("tets");
+    assert!(before > 5.0, "a flat tet expected, worst {before}");
+    assert!(ops.insert_delaunay_around(t), "the insertion should apply");
+    let after = qualities(&ops).iter().map(|q| q.0).fold(1.0, f64::max);
+    assert!(after < 0.5 * before, "worst {before} -> {after}");
+    ops.l
+        .mesh
+        .validate(false)
+        .expect("valid after the insertion");
+    let mut scratch = Vec::new();
+    for f in &boundary {
+        assert!(
+            ops.l.has_face(f[0], f[1], f[2], &mut scratch),
+            "boundary face {f:?} kept"
+        );
+    }
+}
