@@ -164,6 +164,9 @@ struct MeshArgs {
     /// Points proposed per front face: the optimal point and deeper ones along the normal
     #[arg(long, default_value_t = mesher::front::FrontParams::default().layers)]
     front_layers: usize,
+    /// Layers of field points the filtration merges into the nearest kept point instead of dropping them (0: none, the paper's filtration; 1: the optimal points; 2: and the first deeper layer)
+    #[arg(long, default_value_t = mesher::front::FrontParams::default().merge_layers)]
+    merge_layers: usize,
     /// Bound on the front iterations.
     #[arg(long, default_value_t = mesher::front::FrontParams::default().max_iterations)]
     max_iterations: usize,

@@ -148,6 +148,7 @@ fn params_from(args: &MeshArgs) -> Result<Params> {
     params.front.delta_f = args.delta_f;
     params.front.delta_v = args.delta_v;
     params.front.layers = args.front_layers;
+    params.front.merge_layers = args.merge_layers;
     params.front.q_accept = args.q_accept;
     params.front.absorb_q_k = args.absorb_q_k;
     params.front.delta_boundary = args.delta_boundary;

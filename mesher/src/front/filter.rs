@@ -12,6 +12,18 @@
 //! choice, e.g. the 99th percentile) are in cells of side `delta * h_small`, the rest in
 //! cells of side `delta * h_max` ([`Grid`]); spans are clipped at [`MAX_SPAN`] cells
 //! per axis, which `h_small >= h_max / MAX_SPAN` never reaches.
+//!
+//! Filtration by merging (not in the paper; [`Grid::keep_or_merge`], [`Clusters`]):
+//! instead of being dropped, a point too close to kept points only joins the nearest
+//! of them, and each kept point then moves to the mean of the points that joined it
+//! (positions and sizes); the caller filters the moved points again, in the same order,
+//! since the means of neighbouring clusters may come closer than `delta_f`. Neighbouring
+//! front faces propose points a fraction of a size apart (the optimal points of two
+//! faces that share an edge, `0.58 h` apart on a regular surface); the paper keeps the
+//! first along the filtration order, which lies over its own face, and the faces around
+//! it get an apex off their ideal one. The mean lies between the ideal apexes of the
+//! faces it serves, and the second filtration thins the layer where the first left it
+//! denser than `delta_f` requires.
 
 use crate::geom::{Aabb, Point};
 use crate::quality::length::normalized_length;
@@ -190,6 +202,26 @@ impl Level {
         false
     }
 
+    /// Calls `f` on every entry of the cells within `r` of `p`.
+    fn each_within(&self, p: Point, r: f64, f: &mut impl FnMut(u32)) {
+        if self.links.is_empty() {
+            return;
+        }
+        let rg = self.range(p, r);
+        for x in rg[0].0..=rg[0].1 {
+            for y in rg[1].0..=rg[1].1 {
+                for z in rg[2].0..=rg[2].1 {
+                    let mut e = self.heads.get(self.heads.slot([x, y, z]));
+                    while e != NONE {
+                        let (id, next) = self.links[e as usize];
+                        f(id);
+                        e = next;
+                    }
+                }
+            }
+        }
+    }
+
     fn add(&mut self, p: Point, id: u32) {
         let e = self.links.len() as u32;
         let next = self.heads.replace(self.heads.slot(self.cell_of(p)), e);
@@ -213,6 +245,18 @@ pub struct Grid {
     big: Level,
     kept: Vec<(Point, f64)>,
     vertices: Vec<(Point, f64)>,
+}
+
+/// What [`Grid::keep_or_nearest`] did with a point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Filtered {
+    /// Kept, with this id (its index in [`Grid::kept`]).
+    Kept(u32),
+    /// Dropped for kept points only: the nearest of them (normalised length).
+    Near(u32),
+    /// Dropped for a registered vertex (or kept points, when not asked for the
+    /// nearest).
+    Dropped,
 }
 
 /// Bit set on a cell entry that refers to [`Grid::vertices`] rather than a kept point.
@@ -296,6 +340,94 @@ impl Grid {
         true
     }
 
+    /// [`Grid::try_keep`]; with `merge`, a point dropped for kept points only (no
+    /// registered vertex closer than `delta_v`) names one of them: the nearest of the
+    /// [`RECENT`] most recent kept points when one is close (the candidates come along a
+    /// space-filling curve), else the nearest in reach (normalised length, then the
+    /// lowest id).
+    pub fn keep_or_merge(
+        &mut self,
+        p: Point,
+        h: f64,
+        delta_f: f64,
+        delta_v: f64,
+        merge: bool,
+    ) -> Filtered {
+        if !merge {
+            return if self.try_keep(p, h, delta_f, delta_v) {
+                Filtered::Kept(self.kept.len() as u32 - 1)
+            } else {
+                Filtered::Dropped
+            };
+        }
+        let delta_f = delta_f.min(self.delta_f);
+        let delta_v = delta_v.min(self.delta_v);
+        if !self.vertices.is_empty() && self.vertex_close(p, h, delta_v) {
+            return Filtered::Dropped;
+        }
+        let recent = self.kept.len().saturating_sub(RECENT) as u32..self.kept.len() as u32;
+        let found = self
+            .nearest_kept(p, h, delta_f, recent)
+            .or_else(|| self.nearest_kept_in_reach(p, h, delta_f));
+        if let Some(k) = found {
+            return Filtered::Near(k);
+        }
+        let id = self.kept.len() as u32;
+        self.kept.push((p, h));
+        self.level_mut(h).add(p, id);
+        Filtered::Kept(id)
+    }
+
+    /// The kept point of `ids` closer than `delta_f` to `p` and nearest (normalised
+    /// length, then the lowest id).
+    fn nearest_kept(
+        &self,
+        p: Point,
+        h: f64,
+        delta_f: f64,
+        ids: impl IntoIterator<Item = u32>,
+    ) -> Option<u32> {
+        let mut best: Option<(f64, u32)> = None;
+        for k in ids {
+            let (q, hq) = self.kept[k as usize];
+            if close(p, q, h, hq, delta_f) {
+                let l = normalized_length(p.distance(q), h, hq);
+                if best.is_none_or(|b| (l, k) < b) {
+                    best = Some((l, k));
+                }
+            }
+        }
+        best.map(|b| b.1)
+    }
+
+    /// [`Grid::nearest_kept`] over the kept points in the cells within reach of `p`.
+    fn nearest_kept_in_reach(&self, p: Point, h: f64, delta_f: f64) -> Option<u32> {
+        let mut ids = Vec::new();
+        let mut visit = |k: u32| {
+            if k & VERTEX_BIT == 0 {
+                ids.push(k);
+            }
+        };
+        let d = self.delta_f.max(self.delta_v);
+        self.small
+            .each_within(p, d * h.max(self.h_small), &mut visit);
+        self.big.each_within(p, d * h.max(self.h_max), &mut visit);
+        self.nearest_kept(p, h, delta_f, ids)
+    }
+
+    /// True when a registered vertex is closer than `delta_v` to `p`.
+    fn vertex_close(&self, p: Point, h: f64, delta_v: f64) -> bool {
+        let near = |k: u32| {
+            k & VERTEX_BIT != 0 && {
+                let (q, hq) = self.vertices[(k & !VERTEX_BIT) as usize];
+                close(p, q, h, hq, delta_v)
+            }
+        };
+        let d = self.delta_f.max(self.delta_v);
+        self.small.any_within(p, d * h.max(self.h_small), near)
+            || self.big.any_within(p, d * h.max(self.h_max), near)
+    }
+
     /// True when a kept point is closer than the grid's `delta_f` or a registered
     /// vertex closer than its `delta_v` to `p` (size `h`); nothing is kept.
     pub fn any_close(&self, p: Point, h: f64) -> bool {
@@ -337,6 +469,48 @@ pub fn close(p: Point, q: Point, hp: f64, hq: f64, limit: f64) -> bool {
         return true;
     }
     normalized_length(d2.sqrt(), hp, hq) < limit
+}
+
+/// The points merged into each kept point of a [`Grid`] ([`Filtered::Near`]): per kept
+/// id, the sums of the positions and sizes and their number, its own included.
+#[derive(Debug, Default)]
+pub struct Clusters {
+    sums: Vec<(Point, f64, u32)>,
+}
+
+impl Clusters {
+    /// Records what the filtration did with `p` (size `h`); every point the grid kept
+    /// must be recorded, in order.
+    pub fn add(&mut self, what: Filtered, p: Point, h: f64) {
+        match what {
+            Filtered::Kept(k) => {
+                debug_assert_eq!(k as usize, self.sums.len(), "kept points recorded in order");
+                self.sums.push((p, h, 1));
+            }
+            Filtered::Near(k) => {
+                if let Some(s) = self.sums.get_mut(k as usize) {
+                    s.0 += p;
+                    s.1 += h;
+                    s.2 += 1;
+                }
+            }
+            Filtered::Dropped => {}
+        }
+    }
+
+    /// The kept points that moved, in id order: (id, mean position, mean size of its
+    /// cluster). The means may lie closer than `delta_f` to one another: the caller
+    /// filters the moved points again.
+    pub fn moves(&self) -> Vec<(u32, Point, f64)> {
+        let mut out = Vec::new();
+        for (k, &(sum_p, sum_h, n)) in self.sums.iter().enumerate() {
+            let (p, h) = (sum_p / f64::from(n), sum_h / f64::from(n));
+            if n > 1 && p.is_finite() && h > 0.0 && h.is_finite() {
+                out.push((k as u32, p, h));
+            }
+        }
+        out
+    }
 }
 
 #[cfg(test)]
@@ -408,5 +582,94 @@ mod tests {
         // the kept list.
         assert!(g.try_keep(Point::new(0.8, 0.6, 0.0), 1.0, 0.5, 0.5));
         assert_eq!(g.kept().len(), 2);
+    }
+
+    #[test]
+    fn a_point_merges_into_the_nearest_kept_point_and_moves_it_to_the_mean() {
+        let mut g = Grid::new(1.0, 0.7, 0.7);
+        let mut clusters = Clusters::default();
+        let mut add = |g: &mut Grid, p: Point| {
+            let what = g.keep_or_merge(p, 1.0, 0.7, 0.7, true);
+            clusters.add(what, p, 1.0);
+            what
+        };
+        assert_eq!(add(&mut g, Point::ZERO), Filtered::Kept(0));
+        assert_eq!(add(&mut g, Point::new(1.2, 0.0, 0.0)), Filtered::Kept(1));
+        // 0.5 from the first, 0.7 from the second: merged into the first.
+        assert_eq!(add(&mut g, Point::new(0.5, 0.0, 0.0)), Filtered::Near(0));
+        // 0.4 from the second, 0.8 from the first.
+        assert_eq!(add(&mut g, Point::new(0.8, 0.0, 0.0)), Filtered::Near(1));
+        // Close to both (0.63 and 0.59): the nearer, the second.
+        assert_eq!(add(&mut g, Point::new(0.62, 0.1, 0.0)), Filtered::Near(1));
+        let moves = clusters.moves();
+        assert_eq!(moves.len(), 2);
+        assert_eq!(moves[0], (0, Point::new(0.25, 0.0, 0.0), 1.0));
+        let (k, p, _) = moves[1];
+        assert_eq!(k, 1);
+        assert!(p.distance(Point::new(2.62 / 3.0, 0.1 / 3.0, 0.0)) < 1e-12);
+        // Without merging the same point is dropped.
+        assert_eq!(
+            g.keep_or_merge(Point::new(0.3, 0.0, 0.0), 1.0, 0.7, 0.7, false),
+            Filtered::Dropped
+        );
+    }
+
+    #[test]
+    fn a_point_near_a_registered_vertex_is_dropped_not_merged() {
+        let mut g = Grid::new(1.0, 0.7, 0.9);
+        g.add_vertex(Point::new(1.0, 0.0, 0.0), 1.0);
+        assert_eq!(
+            g.keep_or_merge(Point::ZERO, 1.0, 0.7, 0.9, true),
+            Filtered::Kept(0)
+        );
+        // 0.4 from the kept point but 0.6 from the vertex (inside delta_v).
+        assert_eq!(
+            g.keep_or_merge(Point::new(0.4, 0.0, 0.0), 1.0, 0.7, 0.9, true),
+            Filtered::Dropped
+        );
+    }
+
+    /// The front's filtration with merging (`front::filtrate`): merged, moved to the
+    /// means, filtered again; no two points end closer than `delta_f`.
+    #[test]
+    fn merged_points_filtered_again_keep_delta_f() {
+        let delta_f = 0.9;
+        let mut s = 777u64;
+        let mut rnd = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let pts: Vec<(Point, f64)> = (0..2000)
+            .map(|_| {
+                let p = Point::new(rnd(), rnd(), rnd());
+                (p, 0.05 + 0.1 * p.y)
+            })
+            .collect();
+        let mut g = Grid::new(0.15, delta_f, delta_f);
+        let mut clusters = Clusters::default();
+        let mut kept = Vec::new();
+        for &(p, h) in &pts {
+            let what = g.keep_or_merge(p, h, delta_f, delta_f, true);
+            clusters.add(what, p, h);
+            if let Filtered::Kept(_) = what {
+                kept.push((p, h));
+            }
+        }
+        let moves = clusters.moves();
+        assert!(!moves.is_empty(), "some points merge");
+        for (k, p, h) in moves {
+            kept[k as usize] = (p, h);
+        }
+        let mut g = Grid::new(0.15, delta_f, delta_f);
+        kept.retain(|&(p, h)| g.try_keep(p, h, delta_f, delta_f));
+        assert!(kept.len() > 50);
+        for i in 0..kept.len() {
+            for j in i + 1..kept.len() {
+                let ((p, hp), (q, hq)) = (kept[i], kept[j]);
+                assert!(normalized_length(p.distance(q), hp, hq) >= delta_f);
+            }
+        }
     }
 }

@@ -300,6 +300,7 @@ fn level(
                             out.push(Candidate {
                                 p,
                                 h,
+                                hf: h,
                                 k2: domain.hint,
                                 layer: 0,
                                 delta_f: params.seed_clearance,
