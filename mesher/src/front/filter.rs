@@ -16,8 +16,9 @@
 //! Filtration by merging (not in the paper; [`Grid::keep_or_merge`], [`Clusters`]):
 //! instead of being dropped, a point too close to kept points only joins the nearest
 //! of them, and each kept point then moves to the mean of the points that joined it
-//! (positions and sizes); the caller filters the moved points again, in the same order,
-//! since the means of neighbouring clusters may come closer than `delta_f`. Neighbouring
+//! (the caller gives it the field's size there and filters the moved points again,
+//! measured with at most their cluster's mean size, in the same order,
+//! since the means of neighbouring clusters may come closer than `delta_f`). Neighbouring
 //! front faces propose points a fraction of a size apart (the optimal points of two
 //! faces that share an edge, `0.58 h` apart on a regular surface); the paper keeps the
 //! first along the filtration order, which lies over its own face, and the faces around
@@ -247,7 +248,7 @@ pub struct Grid {
     vertices: Vec<(Point, f64)>,
 }
 
-/// What [`Grid::keep_or_nearest`] did with a point.
+/// What [`Grid::keep_or_merge`] did with a point.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Filtered {
     /// Kept, with this id (its index in [`Grid::kept`]).
@@ -472,7 +473,8 @@ pub fn close(p: Point, q: Point, hp: f64, hq: f64, limit: f64) -> bool {
 }
 
 /// The points merged into each kept point of a [`Grid`] ([`Filtered::Near`]): per kept
-/// id, the sums of the positions and sizes and their number, its own included.
+/// id, the sums of their positions and of the sizes they were filtered with, and their
+/// number, its own included.
 #[derive(Debug, Default)]
 pub struct Clusters {
     sums: Vec<(Point, f64, u32)>,
