@@ -335,10 +335,16 @@ impl Grid {
         if self.close_to_any(p, h, delta_f, delta_v) {
             return false;
         }
+        self.push_kept(p, h);
+        true
+    }
+
+    /// Registers `p` (size `h`) as kept; returns its id.
+    fn push_kept(&mut self, p: Point, h: f64) -> u32 {
         let id = self.kept.len() as u32;
         self.kept.push((p, h));
         self.level_mut(h).add(p, id);
-        true
+        id
     }
 
     /// [`Grid::try_keep`]; with `merge`, a point dropped for kept points only (no
@@ -370,13 +376,10 @@ impl Grid {
         let found = self
             .nearest_kept(p, h, delta_f, recent)
             .or_else(|| self.nearest_kept_in_reach(p, h, delta_f));
-        if let Some(k) = found {
-            return Filtered::Near(k);
+        match found {
+            Some(k) => Filtered::Near(k),
+            None => Filtered::Kept(self.push_kept(p, h)),
         }
-        let id = self.kept.len() as u32;
-        self.kept.push((p, h));
-        self.level_mut(h).add(p, id);
-        Filtered::Kept(id)
     }
 
     /// The kept point of `ids` closer than `delta_f` to `p` and nearest (normalised
@@ -388,32 +391,38 @@ impl Grid {
         delta_f: f64,
         ids: impl IntoIterator<Item = u32>,
     ) -> Option<u32> {
-        let mut best: Option<(f64, u32)> = None;
+        let mut best = None;
         for k in ids {
-            let (q, hq) = self.kept[k as usize];
-            if close(p, q, h, hq, delta_f) {
-                let l = normalized_length(p.distance(q), h, hq);
-                if best.is_none_or(|b| (l, k) < b) {
-                    best = Some((l, k));
-                }
-            }
+            self.consider(&mut best, p, h, delta_f, k);
         }
-        best.map(|b| b.1)
+        best.map(|b: (f64, u32)| b.1)
     }
 
     /// [`Grid::nearest_kept`] over the kept points in the cells within reach of `p`.
     fn nearest_kept_in_reach(&self, p: Point, h: f64, delta_f: f64) -> Option<u32> {
-        let mut ids = Vec::new();
+        let mut best = None;
         let mut visit = |k: u32| {
             if k & VERTEX_BIT == 0 {
-                ids.push(k);
+                self.consider(&mut best, p, h, delta_f, k);
             }
         };
         let d = self.delta_f.max(self.delta_v);
         self.small
             .each_within(p, d * h.max(self.h_small), &mut visit);
         self.big.each_within(p, d * h.max(self.h_max), &mut visit);
-        self.nearest_kept(p, h, delta_f, ids)
+        best.map(|b| b.1)
+    }
+
+    /// Makes kept point `k` the `best` (length, id) when it is closer than `delta_f`
+    /// to `p` and nearer than `best` (or as near with a lower id).
+    fn consider(&self, best: &mut Option<(f64, u32)>, p: Point, h: f64, delta_f: f64, k: u32) {
+        let (q, hq) = self.kept[k as usize];
+        if close(p, q, h, hq, delta_f) {
+            let l = normalized_length(p.distance(q), h, hq);
+            if best.is_none_or(|b| (l, k) < b) {
+                *best = Some((l, k));
+            }
+        }
     }
 
     /// True when a registered vertex is closer than `delta_v` to `p`.
