@@ -103,6 +103,9 @@ pub struct Kernel {
     /// Per-vertex stamps of the constrained cavity checks, and their epoch.
     vstamp: Vec<u32>,
     epoch: u32,
+    /// Distinct vertices of the constrained cavity's boundary (stamped with `epoch`),
+    /// counted as [`Kernel::boundary`] is filled.
+    boundary_vertices: usize,
     rng: u64,
     last: u32,
     /// Static filter for the box every vertex lies in ([`StaticFilter::none`] when

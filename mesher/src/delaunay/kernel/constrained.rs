@@ -295,6 +295,11 @@ impl Kernel {
     ) -> Option<u32> {
         let filter = self.filter_for(p);
         self.boundary.clear();
+        // The boundary's vertices are stamped and counted on the way, for the checks
+        // that follow (a vertex lost, the Euler characteristic) when no tet leaves.
+        self.next_epoch(mesh);
+        let epoch = self.epoch;
+        let mut count = 0;
         for &c in &self.cavity {
             let adj = mesh.raw_adj(c);
             let verts = mesh.raw_tet(c);
@@ -321,6 +326,13 @@ impl Kernel {
                 if filter.orient3d(q(0), q(1), q(2), p) != Orientation::Positive {
                     return Some(c);
                 }
+                for &k in &f {
+                    let x = verts[k] as usize;
+                    if self.vstamp[x] != epoch {
+                        self.vstamp[x] = epoch;
+                        count += 1;
+                    }
+                }
                 let mut nv = verts;
                 nv[i] = u32::MAX - 2;
                 self.boundary.push(BoundaryFace {
@@ -330,12 +342,12 @@ impl Kernel {
                 });
             }
         }
+        self.boundary_vertices = count;
         None
     }
 
-    /// A cavity tet holding a vertex that is on no boundary face (it would vanish);
-    /// prefers a tet other than `start`.
-    fn lost_vertex_tet(&mut self, mesh: &TetMesh, start: u32) -> Option<u32> {
+    /// A new epoch for the vertex stamps, sized for every vertex of `mesh`.
+    fn next_epoch(&mut self, mesh: &TetMesh) {
         if self.vstamp.len() < mesh.num_vertices() + 1 {
             self.vstamp.resize(mesh.num_vertices() + 1024, 0);
         }
@@ -344,13 +356,12 @@ impl Kernel {
             self.vstamp.fill(0);
             self.epoch = 1;
         }
-        for b in &self.boundary {
-            for (s, &x) in b.verts.iter().enumerate() {
-                if s != b.slot as usize {
-                    self.vstamp[x as usize] = self.epoch;
-                }
-            }
-        }
+    }
+
+    /// A cavity tet holding a vertex that is on no boundary face (it would vanish);
+    /// prefers a tet other than `start`. The boundary's vertices carry the current
+    /// epoch's stamp ([`Kernel::cavity_boundary`]).
+    fn lost_vertex_tet(&mut self, mesh: &TetMesh, start: u32) -> Option<u32> {
         let lost = self.cavity.iter().find_map(|&c| {
             mesh.raw_tet(c)
                 .into_iter()
@@ -393,22 +404,9 @@ impl Kernel {
     }
 
     /// Euler check of the cavity boundary: a closed surface of genus 0 has
-    /// `V - E + F = 2`, with `E = 3F / 2`.
+    /// `V - E + F = 2`, with `E = 3F / 2` (`V` counted by [`Kernel::cavity_boundary`]).
     fn check_ball(&mut self) -> Result<(), Rejection> {
-        self.epoch = self.epoch.wrapping_add(1);
-        if self.epoch == 0 {
-            self.vstamp.fill(0);
-            self.epoch = 1;
-        }
-        let mut v = 0usize;
-        for b in &self.boundary {
-            for (s, &x) in b.verts.iter().enumerate() {
-                if s != b.slot as usize && self.vstamp[x as usize] != self.epoch {
-                    self.vstamp[x as usize] = self.epoch;
-                    v += 1;
-                }
-            }
-        }
+        let v = self.boundary_vertices;
         let f = self.boundary.len();
         if f & 1 == 0 && v + 2 == f / 2 + 4 {
             Ok(())
