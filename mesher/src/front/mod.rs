@@ -531,18 +531,25 @@ fn admit(
     }
 }
 
-/// The front faces `(K2, facet)`, in slot order.
+/// The front faces `(K2, facet)`, in slot order (the active list's, in chunks on the
+/// threads).
 fn front_faces(fm: &FieldMesh, accept: &[bool], active: &[u32]) -> Vec<(u32, u8)> {
-    let mut out = Vec::new();
-    for &t in active {
-        let adj = fm.mesh.raw_adj(t);
-        for (i, &a) in adj.iter().enumerate() {
-            if accept[(a >> 2) as usize] || fm.cons.is_constrained(t, i) {
-                out.push((t, i as u8));
+    active
+        .par_chunks(4 * CHUNK)
+        .map(|chunk| {
+            let mut out = Vec::new();
+            for &t in chunk {
+                let adj = fm.mesh.raw_adj(t);
+                for (i, &a) in adj.iter().enumerate() {
+                    if accept[(a >> 2) as usize] || fm.cons.is_constrained(t, i) {
+                        out.push((t, i as u8));
+                    }
+                }
             }
-        }
-    }
-    out
+            out
+        })
+        .flatten()
+        .collect()
 }
 
 /// The points proposed in one iteration ([`propose`]).
@@ -915,17 +922,29 @@ fn accept_lattice(
     active: &[u32],
     accept: &mut [bool],
 ) {
-    let mut hint = 0u32;
-    for &t in active {
-        let tu = t as usize;
-        if accept[tu] || !fm.mesh.is_alive(TetId(t)) || fm.cons.region[tu] == 0 {
-            continue;
-        }
-        if fm.mesh.raw_tet(t).iter().all(|&v| v >= first_seed)
-            && acceptable(fm, field, params, t, &mut hint)
-        {
-            accept[tu] = true;
-        }
+    let shared: &[bool] = accept;
+    let ok: Vec<u32> = active
+        .par_chunks(4 * CHUNK)
+        .map(|chunk| {
+            let mut hint = 0u32;
+            let mut out = Vec::new();
+            for &t in chunk {
+                let tu = t as usize;
+                if shared[tu] || !fm.mesh.is_alive(TetId(t)) || fm.cons.region[tu] == 0 {
+                    continue;
+                }
+                if fm.mesh.raw_tet(t).iter().all(|&v| v >= first_seed)
+                    && acceptable(fm, field, params, t, &mut hint)
+                {
+                    out.push(t);
+                }
+            }
+            out
+        })
+        .flatten()
+        .collect();
+    for t in ok {
+        accept[t as usize] = true;
     }
 }
 
