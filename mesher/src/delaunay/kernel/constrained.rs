@@ -405,7 +405,7 @@ impl Kernel {
 
     /// Euler check of the cavity boundary: a closed surface of genus 0 has
     /// `V - E + F = 2`, with `E = 3F / 2` (`V` counted by [`Kernel::cavity_boundary`]).
-    fn check_ball(&mut self) -> Result<(), Rejection> {
+    fn check_ball(&self) -> Result<(), Rejection> {
         let v = self.boundary_vertices;
         let f = self.boundary.len();
         if f & 1 == 0 && v + 2 == f / 2 + 4 {
