@@ -869,37 +869,24 @@ fn classify(
     active: &[u32],
     accept: &mut [bool],
 ) -> usize {
-    let mesh = &fm.mesh;
-    let results: Vec<(u32, bool)> = active
-        .par_chunks(4 * CHUNK)
-        .map(|chunk| {
-            let mut hint = 0u32;
-            let mut out = Vec::new();
-            for &t in chunk {
-                let tu = t as usize;
-                if accept[tu] || fm.cons.region[tu] == 0 || !mesh.is_alive(TetId(t)) {
-                    continue;
-                }
-                let ok = if ages.born[tu] == it {
-                    acceptable(fm, field, params, t, &mut hint)
-                } else {
-                    // A grossly unacceptable tet gets a few tries before the remedial
-                    // rule accepts it: the points around it may make room meanwhile.
-                    let mut gross = || {
-                        let wide = FrontParams {
-                            delta: params.delta * GROSS_FACTOR,
-                            ..*params
-                        };
-                        ages.tries[tu] < GROSS_TRIES && !acceptable(fm, field, &wide, t, &mut hint)
-                    };
-                    (params.remedial == Remedial::All || ages.tried[tu] == it) && !gross()
+    let results = over_unaccepted(fm, active, accept, |t, hint| {
+        let tu = t as usize;
+        let ok = if ages.born[tu] == it {
+            acceptable(fm, field, params, t, hint)
+        } else {
+            // A grossly unacceptable tet gets a few tries before the remedial rule
+            // accepts it: the points around it may make room meanwhile.
+            let mut gross = || {
+                let wide = FrontParams {
+                    delta: params.delta * GROSS_FACTOR,
+                    ..*params
                 };
-                out.push((t, ok));
-            }
-            out
-        })
-        .flatten()
-        .collect();
+                ages.tries[tu] < GROSS_TRIES && !acceptable(fm, field, &wide, t, hint)
+            };
+            (params.remedial == Remedial::All || ages.tried[tu] == it) && !gross()
+        };
+        Some((t, ok))
+    });
     let mut remedial = 0;
     for &(t, ok) in &results {
         if ok {
@@ -922,30 +909,38 @@ fn accept_lattice(
     active: &[u32],
     accept: &mut [bool],
 ) {
-    let shared: &[bool] = accept;
-    let ok: Vec<u32> = active
-        .par_chunks(4 * CHUNK)
-        .map(|chunk| {
-            let mut hint = 0u32;
-            let mut out = Vec::new();
-            for &t in chunk {
-                let tu = t as usize;
-                if shared[tu] || !fm.mesh.is_alive(TetId(t)) || fm.cons.region[tu] == 0 {
-                    continue;
-                }
-                if fm.mesh.raw_tet(t).iter().all(|&v| v >= first_seed)
-                    && acceptable(fm, field, params, t, &mut hint)
-                {
-                    out.push(t);
-                }
-            }
-            out
-        })
-        .flatten()
-        .collect();
+    let ok = over_unaccepted(fm, active, accept, |t, hint| {
+        let lattice = fm.mesh.raw_tet(t).iter().all(|&v| v >= first_seed);
+        (lattice && acceptable(fm, field, params, t, hint)).then_some(t)
+    });
     for t in ok {
         accept[t as usize] = true;
     }
+}
+
+/// `f(t, hint)` for the live domain tets of `active` not accepted yet, in chunks on the
+/// threads (a size-field hint per chunk), the results in the list's order.
+fn over_unaccepted<T: Send>(
+    fm: &FieldMesh,
+    active: &[u32],
+    accept: &[bool],
+    f: impl Fn(u32, &mut u32) -> Option<T> + Sync,
+) -> Vec<T> {
+    active
+        .par_chunks(4 * CHUNK)
+        .map(|chunk| {
+            let mut hint = 0u32;
+            chunk
+                .iter()
+                .filter(|&&t| {
+                    let tu = t as usize;
+                    !accept[tu] && fm.cons.region[tu] != 0 && fm.mesh.is_alive(TetId(t))
+                })
+                .filter_map(|&t| f(t, &mut hint))
+                .collect::<Vec<T>>()
+        })
+        .flatten()
+        .collect()
 }
 
 /// True when every edge of `t` has normalised length `<= delta`.
