@@ -442,6 +442,17 @@ fn debug_ops_on_a_tet() {
     eprintln!("insert_grown_around -> {ok}");
 }
 
+/// The mesh of `tets` over `points`, each tet turned positive.
+fn positive_mesh(points: Vec<Point>, mut tets: Vec<[u32; 4]>) -> TetMesh {
+    for t in &mut tets {
+        let p = t.map(|x| points[x as usize]);
+        if signed_volume(&p) < 0.0 {
+            t.swap(0, 1);
+        }
+    }
+    TetMesh::from_tets(points, &tets).expect("a valid test mesh")
+}
+
 /// The last resort's edge split (`Ops::split_edge_of`): a free vertex nearly in the
 /// plane of a fan of small fixed triangles (a pyramid of fixed vertices, the free
 /// vertex just above its base's centre) makes four flat tets around the edge from it to
@@ -472,14 +483,7 @@ fn an_edge_split_lifts_the_flat_tets_of_a_fan() {
         tets.push([0, b, a, 6]);
         tets.push([a, b, 5, 6]);
     }
-    // Orient every tet positively.
-    for t in &mut tets {
-        let p = t.map(|x| points[x as usize]);
-        if signed_volume(&p) < 0.0 {
-            t.swap(0, 1);
-        }
-    }
-    let mesh = TetMesh::from_tets(points, &tets).expect("a valid pyramid");
+    let mesh = positive_mesh(points, tets);
     let region = vec![1; mesh.num_slots()];
     let mut fixed = vec![true; mesh.num_vertices()];
     fixed[6] = false;
@@ -536,14 +540,7 @@ fn a_delaunay_cavity_lifts_a_flat_tet_under_a_ridge() {
         [2, 3, 4],
         [3, 0, 4],
     ];
-    let mut tets = vec![[0, 1, 2, 3], [0, 1, 3, 4], [1, 2, 3, 4]];
-    for t in &mut tets {
-        let p = t.map(|x| points[x as usize]);
-        if signed_volume(&p) < 0.0 {
-            t.swap(0, 1);
-        }
-    }
-    let mesh = TetMesh::from_tets(points, &tets).expect("a valid roof");
+    let mesh = positive_mesh(points, vec![[0, 1, 2, 3], [0, 1, 3, 4], [1, 2, 3, 4]]);
     let region = vec![1; mesh.num_slots()];
     let fixed = vec![true; mesh.num_vertices()];
     let mut ops = ops::Ops::new(Local::new(mesh), Locks::of_faces(&boundary), region, fixed);

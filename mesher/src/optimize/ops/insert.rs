@@ -163,16 +163,8 @@ impl Ops {
         for _ in 0..layers {
             let end = cavity.len();
             for k in start..end {
-                let c = cavity[k];
-                let v = self.l.tet(c);
-                let adj = self.l.adj(c);
-                for (i, fv) in FACE_VERTICES.iter().enumerate() {
-                    let u = FaceRef::from_raw(adj[i]).tet().0;
-                    if !cavity.contains(&u)
-                        && !self.l.is_ghost(u)
-                        && self.region_of(u) == r
-                        && !self.locks.face(fv.map(|j| v[j]))
-                    {
+                for u in self.open_neighbours(cavity[k], r) {
+                    if !cavity.contains(&u) {
                         cavity.push(u);
                     }
                 }
@@ -254,15 +246,8 @@ impl Ops {
         while k < cavity.len() {
             let c = cavity[k];
             k += 1;
-            let v = self.l.tet(c);
-            let adj = self.l.adj(c);
-            for (i, fv) in FACE_VERTICES.iter().enumerate() {
-                let u = FaceRef::from_raw(adj[i]).tet().0;
-                if cavity.contains(&u)
-                    || self.l.is_ghost(u)
-                    || self.region_of(u) != r
-                    || self.locks.face(fv.map(|j| v[j]))
-                {
+            for u in self.open_neighbours(c, r) {
+                if cavity.contains(&u) {
                     continue;
                 }
                 let w = self.l.tet(u).map(|x| self.l.p(x));
@@ -275,6 +260,19 @@ impl Ops {
             }
         }
         (!self.has_inner_lock(&cavity)).then_some(cavity)
+    }
+
+    /// The neighbours of tet `c` in region `r` across its faces that are not
+    /// constrained (ghosts left out): where a cavity grown from `c` may go.
+    fn open_neighbours(&self, c: u32, r: u32) -> impl Iterator<Item = u32> + '_ {
+        let v = self.l.tet(c);
+        let adj = self.l.adj(c);
+        FACE_VERTICES.iter().enumerate().filter_map(move |(i, fv)| {
+            let u = FaceRef::from_raw(adj[i]).tet().0;
+            let open =
+                !self.l.is_ghost(u) && self.region_of(u) == r && !self.locks.face(fv.map(|j| v[j]));
+            open.then_some(u)
+        })
     }
 
     /// True when a constrained face lies between two tets of `cavity` (reached around
