@@ -402,11 +402,13 @@ fn boundary_attempt(
             // The domain is identified once more in `finish`: here only for the
             // interior Steiner points to suppress (none on most clean inputs: knot2's
             // T(S,F) 47 -> 43 ms).
+            let mut identified = None;
             if !steiner.is_empty() {
-                let inside = inside_vertices(&rec, &work, &sv)?;
+                let (inside, before) = inside_vertices(&rec, &work, &sv)?;
                 suppress(&mut rec, &mut steiner, &inside, &mut report);
+                identified = Some(before);
             }
-            let bm = finish(rec, &work, sv, steiner, marks, &mut report)?;
+            let bm = finish(rec, &work, sv, steiner, marks, identified, &mut report)?;
             report.time_domain = t3.elapsed().as_secs_f64();
             return Ok((bm, report));
         }
@@ -647,13 +649,20 @@ fn suppress(
     report.steiner_removed = before - steiner.len();
 }
 
+/// The domain identified on a mesh, with the tets it was identified on (per slot, the
+/// vertices; `u32::MAX` for dead slots), for [`domain::patched`].
+struct Identified {
+    regions: domain::Regions,
+    snapshot: Vec<[u32; 4]>,
+}
+
 /// Which mesh vertices touch the domain (a tet of a material region), found by the
-/// domain identification of `finish` on the mesh as it is.
+/// domain identification of `finish` on the mesh as it is; and that identification.
 fn inside_vertices(
     rec: &Recovery,
     work: &Refined,
     sv: &[VertexId],
-) -> Result<Vec<bool>, BoundaryError> {
+) -> Result<(Vec<bool>, Identified), BoundaryError> {
     let mesh_tris: Vec<[u32; 3]> = work
         .surface
         .triangles
@@ -662,15 +671,18 @@ fn inside_vertices(
         .collect();
     let marks = rec.l.triangle_faces(&mesh_tris);
     let regions = domain::identify(&rec.l.mesh, &marks)?;
-    let mut inside = vec![false; rec.l.mesh.num_vertices()];
-    for t in rec.l.mesh.finite_tets() {
+    let mesh = &rec.l.mesh;
+    let mut inside = vec![false; mesh.num_vertices()];
+    let mut snapshot = vec![[u32::MAX; 4]; mesh.num_slots()];
+    for t in mesh.finite_tets() {
+        snapshot[t.index()] = mesh.raw_tet(t.0);
         if regions.region[t.index()] != 0 {
-            for v in rec.l.mesh.tet(t) {
+            for v in mesh.tet(t) {
                 inside[v.index()] = true;
             }
         }
     }
-    Ok(inside)
+    Ok((inside, Identified { regions, snapshot }))
 }
 
 /// A stuck input entity (input vertex / triangle ids).
@@ -895,6 +907,7 @@ fn finish(
     surface_vertex: Vec<VertexId>,
     steiner: Vec<VertexId>,
     marks: Option<FaceMarks>,
+    identified: Option<Identified>,
     report: &mut BoundaryReport,
 ) -> Result<BoundaryMesh, BoundaryError> {
     let mesh_tris: Vec<[u32; 3]> = work
@@ -903,16 +916,28 @@ fn finish(
         .iter()
         .map(|t| t.map(|i| surface_vertex[i as usize].0))
         .collect();
-    let marks = match marks {
-        Some(f) if f.clock == rec.l.stamps.clock => f.marks,
-        _ => rec.l.triangle_faces(&mesh_tris),
-    };
-    let mesh = rec.l.mesh;
     let mut constrained = HashMap::with_capacity(mesh_tris.len());
     for (t, &k) in mesh_tris.iter().zip(&work.parent) {
         constrained.insert(sorted_ids(*t), k);
     }
-    let regions = domain::identify(&mesh, &marks)?;
+    // The identification before the suppression, patched where the suppression changed
+    // the mesh; else from scratch.
+    let patched = identified.and_then(|before| {
+        domain::patched(&rec.l.mesh, &before.regions, &before.snapshot, |f| {
+            constrained.contains_key(&sorted_ids(f))
+        })
+    });
+    let regions = match patched {
+        Some(r) => r,
+        None => {
+            let marks = match marks {
+                Some(f) if f.clock == rec.l.stamps.clock => f.marks,
+                _ => rec.l.triangle_faces(&mesh_tris),
+            };
+            domain::identify(&rec.l.mesh, &marks)?
+        }
+    };
+    let mesh = rec.l.mesh;
     report.regions = regions.count;
     report.tets = regions.tets;
     report.volume = regions.volume;

@@ -1,6 +1,7 @@
 //! Unit tests of the boundary mesh on generated surfaces.
 
 use super::attempts::{attempt_options, ORDER_RETRIES};
+use super::flips::flip23;
 use super::*;
 use crate::surface::generate::{cube, icosphere, torus};
 
@@ -383,4 +384,45 @@ fn crossing_points_are_kept_off_the_faces_of_their_edge() {
         }
     }
     assert_eq!(moved[2], far, "a point clear of the faces stays");
+}
+
+/// The domain patched after local changes ([`domain::patched`]) is the domain
+/// identified from scratch; with no tet kept from before there is nothing to patch
+/// from, and the caller identifies from scratch.
+#[test]
+fn a_patched_domain_is_the_domain_identified_again() {
+    let (bm, _) = check(&torus(24, 12, 2.0, 0.5));
+    let faces: Vec<[u32; 3]> = bm.faces.iter().map(|f| f.map(|v| v.0)).collect();
+    let is_input = |f: [u32; 3]| bm.constrained.contains_key(&sorted_ids(f));
+    let marks = Local::new(bm.mesh.clone()).triangle_faces(&faces);
+    let before = domain::identify(&bm.mesh, &marks).unwrap();
+    let mut snapshot = vec![[u32::MAX; 4]; bm.mesh.num_slots()];
+    for t in bm.mesh.finite_tets() {
+        snapshot[t.index()] = bm.mesh.raw_tet(t.0);
+    }
+    // 2-3 flips of free faces, inside the domain and outside it.
+    let mut l = Local::new(bm.mesh.clone());
+    let locks = Locks::of_faces(&faces);
+    let mut counts = FlipCounts::default();
+    let mut flipped = [0, 0];
+    for t in bm.mesh.finite_tets() {
+        for i in 0..4 {
+            let inside = (before.region[t.index()] != 0) as usize;
+            if flipped[inside] < 10
+                && l.mesh.is_alive(t)
+                && flip23(&mut l, &locks, t.0, i, &mut counts).is_ok()
+            {
+                flipped[inside] += 1;
+            }
+        }
+    }
+    assert_eq!(flipped, [10, 10]);
+    let mesh = l.mesh;
+    let marks = Local::new(mesh.clone()).triangle_faces(&faces);
+    let again = domain::identify(&mesh, &marks).unwrap();
+    let patched = domain::patched(&mesh, &before, &snapshot, is_input).unwrap();
+    assert_eq!(patched.region, again.region);
+    assert_eq!((patched.count, patched.tets), (again.count, again.tets));
+    assert!((patched.volume - again.volume).abs() <= 1e-12 * again.volume.abs());
+    assert!(domain::patched(&mesh, &before, &[], is_input).is_none());
 }
