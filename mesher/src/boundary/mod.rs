@@ -61,7 +61,9 @@ use crate::tetmesh::{TetMesh, VertexId};
 use crate::volume::VolumeMesh;
 use flips::Locks;
 use local::Local;
-use present::{all_faces_present, edges_now, faces_lost, faces_now, lock_edge, FaceMarks, Here};
+use present::{
+    all_faces_present, edges_now, faces_lost, faces_now, lock_edge, FaceMarks, Here, Sweep,
+};
 use recover::{Recovery, Stuck};
 use serde::Serialize;
 use split::Refined;

@@ -15,25 +15,42 @@ pub(crate) struct FaceMarks {
     pub marks: Vec<[u32; 4]>,
 }
 
+/// What a fresh round's first sweep found ([`all_faces_present`]).
+pub(super) enum Sweep {
+    /// Not a fresh round (entities are locked already): no sweep.
+    NotFresh,
+    /// Every input triangle is a face: all locked, and the face marks.
+    All(FaceMarks),
+    /// Which triangles are faces, as of the recovery clock `clock`: [`faces_now`] looks
+    /// up again only those at whose vertices a tet has changed since.
+    Some { found: Vec<bool>, clock: u32 },
+}
+
 /// When no entity is locked yet (a fresh round) and every input triangle is a face of
 /// the mesh already (most clean inputs), their edges are edges of it too: every edge
-/// and face is locked as present and the face marks are returned; `None` otherwise,
-/// with nothing changed. One sweep over the tets instead of three (the edges' hash,
-/// the faces' look-up, the domain's marks): knot2 11 -> 5.5 ms.
+/// and face is locked as present and the face marks are returned; otherwise, with
+/// nothing changed, which triangles are faces. One sweep over the tets instead of
+/// three (the edges' hash, the faces' look-up, the domain's marks): knot2 11 -> 5.5
+/// ms; and where some are missing, no second sweep for the faces after the edges'
+/// recovery (turbine: 4 ms).
 pub(super) fn all_faces_present(
     rec: &mut Recovery,
     surface: &Surface,
     edges: &[(u32, u32, u32)],
     sv: &[VertexId],
-) -> Option<FaceMarks> {
+) -> Sweep {
     if !(rec.locks.edges.is_empty() && rec.locks.faces.is_empty()) {
-        return None;
+        return Sweep::NotFresh;
     }
     let m = |i: u32| sv[i as usize].0;
     let mesh_tris: Vec<[u32; 3]> = surface.triangles.iter().map(|t| t.map(m)).collect();
     let marks = rec.l.triangle_faces(&mesh_tris);
-    if found_in(&marks, mesh_tris.len()).contains(&false) {
-        return None;
+    let found = found_in(&marks, mesh_tris.len());
+    if found.contains(&false) {
+        return Sweep::Some {
+            found,
+            clock: rec.l.stamps.clock,
+        };
     }
     for &(a, b, _) in edges {
         lock_edge(rec, m(a), m(b));
@@ -41,7 +58,7 @@ pub(super) fn all_faces_present(
     for f in &mesh_tris {
         rec.locks.faces.insert(sorted_ids(*f));
     }
-    Some(FaceMarks {
+    Sweep::All(FaceMarks {
         clock: rec.l.stamps.clock,
         marks,
     })
@@ -94,17 +111,40 @@ pub(super) fn edges_now(rec: &mut Recovery, edges: &[(u32, u32)]) -> Vec<Here> {
 
 /// Which triangles (mesh vertex ids) are faces of the mesh, as [`edges_now`]: a face
 /// `kept` is still there if no change touched its vertices since the clock `since`.
+/// With none kept, from the fresh round's `sweep` where no change touched a triangle's
+/// vertices since it, else from a sweep over the mesh.
 pub(super) fn faces_now(
     rec: &mut Recovery,
     kept: &FastSet<[u32; 3]>,
     since: u32,
     tris: &[[u32; 3]],
+    sweep: Option<(&[bool], u32)>,
 ) -> Vec<Here> {
     if kept.is_empty() {
-        return faces_found(&rec.l, tris)
-            .into_iter()
-            .map(Here::from)
+        let Some((found, clock)) = sweep.filter(|s| s.0.len() == tris.len()) else {
+            return faces_found(&rec.l, tris)
+                .into_iter()
+                .map(Here::from)
+                .collect();
+        };
+        let now: Vec<Here> = tris
+            .iter()
+            .zip(found)
+            .map(|(&f, &here)| {
+                if rec.l.stamps.changed_since(&f, clock) {
+                    Here::from(rec.has_face(f[0], f[1], f[2]))
+                } else {
+                    Here::from(here)
+                }
+            })
             .collect();
+        debug_assert!(
+            now.iter()
+                .zip(faces_found(&rec.l, tris))
+                .all(|(&h, f)| h == Here::from(f)),
+            "the sweep's faces, updated at the changed vertices, are not the mesh's"
+        );
+        return now;
     }
     tris.iter()
         .map(|&f| {

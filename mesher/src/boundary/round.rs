@@ -16,13 +16,17 @@ pub(super) fn recover_all(
     round: usize,
 ) -> Result<Recovered, BoundaryError> {
     let m = |i: u32| sv[i as usize].0;
-    if let Some(marks) = all_faces_present(rec, surface, edges, sv) {
-        return Ok(Recovered {
-            stuck: Vec::new(),
-            bad: Vec::new(),
-            marks: Some(marks),
-        });
-    }
+    let sweep = match all_faces_present(rec, surface, edges, sv) {
+        Sweep::All(marks) => {
+            return Ok(Recovered {
+                stuck: Vec::new(),
+                bad: Vec::new(),
+                marks: Some(marks),
+            })
+        }
+        Sweep::Some { found, clock } => Some((found, clock)),
+        Sweep::NotFresh => None,
+    };
     let mut is_surface = vec![false; rec.l.mesh.num_vertices()];
     for v in sv {
         is_surface[v.index()] = true;
@@ -95,7 +99,13 @@ pub(super) fn recover_all(
     let mut faces: Vec<u32> = Vec::new();
     let mut missing_faces = 0;
     let mesh_tris: Vec<[u32; 3]> = surface.triangles.iter().map(|t| t.map(m)).collect();
-    let found = faces_now(rec, &kept_faces, since, &mesh_tris);
+    let found = faces_now(
+        rec,
+        &kept_faces,
+        since,
+        &mesh_tris,
+        sweep.as_ref().map(|(f, c)| (&f[..], *c)),
+    );
     let looked_up = rec.l.stamps.clock;
     // Kept faces the edges' flips took away are dropped, the others stay.
     for (k, f) in mesh_tris.iter().enumerate() {
