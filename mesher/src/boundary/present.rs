@@ -87,15 +87,40 @@ impl From<bool> for Here {
 
 /// Which edges (mesh vertex ids) are in the mesh: from the locks `kept` by an
 /// incremental round (exactly the locked entities still present) and a local look-up
-/// for the others; one sweep over the mesh when there are none.
-pub(super) fn edges_now(rec: &mut Recovery, edges: &[(u32, u32)]) -> Vec<Here> {
+/// for the others. When there are none: from the fresh round's sweep `found` (whether
+/// each triangle is a face, for the mesh as it is), an edge being present when its
+/// triangle (`tri`, per edge) is, and else looked up; without it, one sweep over the
+/// mesh.
+pub(super) fn edges_now(
+    rec: &mut Recovery,
+    edges: &[(u32, u32)],
+    tri: impl Fn(usize) -> usize,
+    found: Option<&[bool]>,
+) -> Vec<Here> {
     if rec.locks.edges.is_empty() {
-        return rec
-            .l
-            .edges_present(edges)
-            .into_iter()
-            .map(Here::from)
+        let Some(found) = found else {
+            return rec
+                .l
+                .edges_present(edges)
+                .into_iter()
+                .map(Here::from)
+                .collect();
+        };
+        let now: Vec<Here> = edges
+            .iter()
+            .enumerate()
+            .map(|(k, &(a, b))| {
+                let here = found.get(tri(k)) == Some(&true) || rec.has_edge(a, b);
+                Here::from(here)
+            })
             .collect();
+        debug_assert!(
+            now.iter()
+                .zip(rec.l.edges_present(edges))
+                .all(|(&h, e)| h == Here::from(e)),
+            "the edges of the sweep's faces are not the mesh's"
+        );
+        return now;
     }
     edges
         .iter()

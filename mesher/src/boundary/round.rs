@@ -44,7 +44,12 @@ pub(super) fn recover_all(
     } = std::mem::take(&mut rec.locks);
     let since = rec.l.stamps.clock;
     rec.locks.edges = kept_edges;
-    let present = edges_now(rec, &mesh_edges);
+    // The sweep is of the mesh as it is: no change since (nothing recovered yet).
+    let swept = sweep
+        .as_ref()
+        .filter(|s| s.1 == rec.l.stamps.clock)
+        .map(|s| &s.0[..]);
+    let present = edges_now(rec, &mesh_edges, |k| edges[k].2 as usize, swept);
     for (&(a, b, t), &here) in edges.iter().zip(&present) {
         match here {
             Here::Locked => {}
