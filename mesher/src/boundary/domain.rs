@@ -123,7 +123,8 @@ pub(crate) fn patched(
         let v = mesh.raw_tet(t);
         crate::tetmesh::FACE_VERTICES[i].map(|k| v[k])
     };
-    // Breadth first from the kept tets; a pass that labels nothing ends it.
+    // Passes over the new tets, each labelling those next to a labelled one; a pass
+    // that labels nothing ends it.
     let mut pending = fresh.clone();
     while !pending.is_empty() {
         let mut left = Vec::new();

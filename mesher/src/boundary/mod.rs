@@ -319,7 +319,7 @@ fn boundary_attempt(
     // The input edges come with the check, the shorter side (turbine: 31 ms with them
     // against the Delaunay mesh's 37).
     let edges = || input_edges(&work.surface, options.edge_order);
-    let ((check, time_check, edges), (first, time_first)) = if options.check_input {
+    let ((check, time_check, mut edges), (first, time_first)) = if options.check_input {
         rayon::join(
             || {
                 let t = Instant::now();
@@ -341,7 +341,6 @@ fn boundary_attempt(
     report.time_check = time_check;
     report.time_delaunay = time_first;
     let mut initial = Some(first?);
-    let mut edges = edges;
     let mut steiner_points: Vec<Point> = Vec::new();
     // Steiner points chosen since the last round (for an incremental round).
     let mut fresh: Vec<Point> = Vec::new();
@@ -406,9 +405,9 @@ fn boundary_attempt(
             suppress_splits(&mut rec, &mut work, &sv, &mut report);
             let mut steiner = steiner;
             steiner.extend(rec.steiner.iter().map(|&v| VertexId(v)));
-            // The domain is identified once more in `finish`: here only for the
-            // interior Steiner points to suppress (none on most clean inputs: knot2's
-            // T(S,F) 47 -> 43 ms).
+            // The domain is identified here only when there are interior Steiner
+            // points to suppress (none on most clean inputs: knot2's T(S,F) 47 -> 43
+            // ms); `finish` then patches it where the suppression changed the mesh.
             let mut identified = None;
             if !steiner.is_empty() {
                 let (inside, before) = inside_vertices(&rec, &work, &sv)?;

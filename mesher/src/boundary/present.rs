@@ -21,8 +21,8 @@ pub(super) enum Sweep {
     NotFresh,
     /// Every input triangle is a face: all locked, and the face marks.
     All(FaceMarks),
-    /// Which triangles are faces, as of the recovery clock `clock`: [`faces_now`] looks
-    /// up again only those at whose vertices a tet has changed since.
+    /// Which triangles are faces, as of the recovery clock `clock` ([`edges_now`] reads
+    /// the edges' presence from it while the clock has not moved).
     Some { found: Vec<bool>, clock: u32 },
 }
 
@@ -31,8 +31,7 @@ pub(super) enum Sweep {
 /// and face is locked as present and the face marks are returned; otherwise, with
 /// nothing changed, which triangles are faces. One sweep over the tets instead of
 /// three (the edges' hash, the faces' look-up, the domain's marks): knot2 11 -> 5.5
-/// ms; and where some are missing, no second sweep for the faces after the edges'
-/// recovery (turbine: 4 ms).
+/// ms; and where some are missing, the edges' presence without a sweep of their own.
 pub(super) fn all_faces_present(
     rec: &mut Recovery,
     surface: &Surface,
@@ -136,50 +135,20 @@ pub(super) fn edges_now(
 
 /// Which triangles (mesh vertex ids) are faces of the mesh, as [`edges_now`]: a face
 /// `kept` is still there if no change touched its vertices since the clock `since`.
-/// With none kept, from the fresh round's `sweep` where no change touched a triangle's
-/// vertices since it when few did, else from a sweep over the mesh.
+/// (A fresh round's first sweep is not reused here: the edges' flips touch most of
+/// the triangles, turbine 76 %, cheese 98 %, fandisk 42 %, and a look-up per touched
+/// triangle costs more than this sweep.)
 pub(super) fn faces_now(
     rec: &mut Recovery,
     kept: &FastSet<[u32; 3]>,
     since: u32,
     tris: &[[u32; 3]],
-    sweep: Option<(&[bool], u32)>,
 ) -> Vec<Here> {
     if kept.is_empty() {
-        // A look-up per changed triangle costs about as much as a sweep per eight
-        // triangles (as in `faces_lost`); the edges' flips often touch most of them
-        // (turbine 76 %, cheese 98 %, fandisk 42 %).
-        let changed = |&(found, clock): &(&[bool], u32)| {
-            let n = tris
-                .iter()
-                .filter(|f| rec.l.stamps.changed_since(&f[..], clock))
-                .count();
-            found.len() == tris.len() && n <= tris.len() / 8
-        };
-        let Some((found, clock)) = sweep.filter(changed) else {
-            return faces_found(&rec.l, tris)
-                .into_iter()
-                .map(Here::from)
-                .collect();
-        };
-        let now: Vec<Here> = tris
-            .iter()
-            .zip(found)
-            .map(|(&f, &here)| {
-                if rec.l.stamps.changed_since(&f, clock) {
-                    Here::from(rec.has_face(f[0], f[1], f[2]))
-                } else {
-                    Here::from(here)
-                }
-            })
+        return faces_found(&rec.l, tris)
+            .into_iter()
+            .map(Here::from)
             .collect();
-        debug_assert!(
-            now.iter()
-                .zip(faces_found(&rec.l, tris))
-                .all(|(&h, f)| h == Here::from(f)),
-            "the sweep's faces, updated at the changed vertices, are not the mesh's"
-        );
-        return now;
     }
     tris.iter()
         .map(|&f| {

@@ -104,13 +104,7 @@ pub(super) fn recover_all(
     let mut faces: Vec<u32> = Vec::new();
     let mut missing_faces = 0;
     let mesh_tris: Vec<[u32; 3]> = surface.triangles.iter().map(|t| t.map(m)).collect();
-    let found = faces_now(
-        rec,
-        &kept_faces,
-        since,
-        &mesh_tris,
-        sweep.as_ref().map(|(f, c)| (&f[..], *c)),
-    );
+    let found = faces_now(rec, &kept_faces, since, &mesh_tris);
     let looked_up = rec.l.stamps.clock;
     // Kept faces the edges' flips took away are dropped, the others stay.
     for (k, f) in mesh_tris.iter().enumerate() {
