@@ -12,7 +12,8 @@
 //! opened a way since it failed; a flat tet between narrow walls is often freed only
 //! once its neighbours have changed). Last, while it lowers the worst `Q_K` by 1 %, a
 //! last resort for the worst tet: a point in a cavity grown around it when its four
-//! vertices are fixed (`Ops::insert_grown_around`), else the collapse of one of its
+//! vertices are fixed (`Ops::insert_grown_around`, then a Delaunay cavity, then the
+//! wedge by one of its surface edges), else the collapse of one of its
 //! free vertices onto a neighbour (`Ops::collapse`, a vertex crowded against the
 //! boundary), or one point for the free vertices of a cavity grown around it
 //! (`Ops::replace_grown_around`), or one point for the ring of one of its edges off the
@@ -287,7 +288,8 @@ const LAST_RESORT_GAIN: f64 = 0.01;
 
 /// The last resort for the worst tet `t`, after the passes: a point in a cavity grown
 /// around it when its four vertices are fixed (layers of face neighbours, then the
-/// Delaunay cavity of a point, [`Ops::insert_delaunay_around`]), else the collapse of a free vertex onto
+/// Delaunay cavity of a point, [`Ops::insert_delaunay_around`], then the wedge of one
+/// of its surface edges, [`Ops::insert_by_surface_edge`]), else the collapse of a free vertex onto
 /// a neighbour (where it lowers the ball's worst; rotor_small: a free vertex 0.003 from
 /// another, in a crowd of boundary vertices, whose moves gained 0.1 % a round at Q_K
 /// 2463, goes, 37.8), else a point that replaces the free vertices of a cavity grown 1-4
@@ -303,7 +305,10 @@ fn last_resort(ops: &mut Ops, t: u32, options: &OptimizeOptions) -> Option<LastR
         .filter(|&x| ops.fixed.get(x as usize) == Some(&false))
         .collect();
     if free.is_empty() {
-        let done = options.insert && (ops.insert_grown_around(t) || ops.insert_delaunay_around(t));
+        let done = options.insert
+            && (ops.insert_grown_around(t)
+                || ops.insert_delaunay_around(t)
+                || ops.insert_by_surface_edge(t));
         return done.then_some(LastResort::Inserted);
     }
     // A free vertex crowded against the boundary goes, collapsed onto a neighbour, when

@@ -6,9 +6,8 @@ use crate::quality::tet::signed_volume;
 use crate::surface::generate;
 use crate::tetmesh::{TetId, FACE_VERTICES};
 
-/// The Delaunay mesh of random points in the unit cube (corners included) as a domain:
-/// the hull is its constrained boundary and the hull vertices are fixed. Random
-/// Delaunay meshes have slivers, so there is work to do.
+/// The Delaunay mesh of random points in the unit cube (corners included) as a domain
+/// ([`hull_domain`]). Random Delaunay meshes have slivers, so there is work to do.
 fn random_domain(n: usize, seed: u64) -> Domain {
     let mut rng = SplitMix64::new(seed);
     let mut r = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
@@ -16,7 +15,13 @@ fn random_domain(n: usize, seed: u64) -> Domain {
         .map(|i| Point::new((i & 1) as f64, ((i >> 1) & 1) as f64, (i >> 2) as f64))
         .collect();
     pts.extend((0..n).map(|_| Point::new(r(), r(), r())));
-    let tr = triangulate(&pts, &DelaunayOptions::default()).expect("a triangulation");
+    hull_domain(&pts)
+}
+
+/// The Delaunay mesh of `pts` as a domain: the hull is its constrained boundary and
+/// the hull vertices are fixed.
+fn hull_domain(pts: &[Point]) -> Domain {
+    let tr = triangulate(pts, &DelaunayOptions::default()).expect("a triangulation");
     let mesh = tr.mesh;
     let mut region = vec![0; mesh.num_slots()];
     let mut constrained = Vec::new();
@@ -563,6 +568,71 @@ fn a_delaunay_cavity_lifts_a_flat_tet_under_a_ridge() {
         .mesh
         .validate(false)
         .expect("valid after the insertion");
+    let mut scratch = Vec::new();
+    for f in &boundary {
+        assert!(
+            ops.l.has_face(f[0], f[1], f[2], &mut scratch),
+            "boundary face {f:?} kept"
+        );
+    }
+}
+
+/// The last resort's wedge (`Ops::insert_by_surface_edge`) on T(S,F) of a torus,
+/// whose tets all have four surface vertices: tried on every tet above `Q_K` 3, worst
+/// first, it applies, each time lowers the domain's `Q_K` values sorted from the worst
+/// (the tets it replaces are worse than those it makes), and keeps the mesh valid and
+/// every surface face.
+#[test]
+fn points_by_surface_edges_keep_the_mesh_and_lower_its_worst() {
+    let s = generate::torus(24, 12, 1.0, 0.3);
+    let (bm, _) = boundary_mesh(&s, &BoundaryOptions::default()).expect("T(S,F)");
+    let boundary: Vec<[u32; 3]> = bm.faces.iter().map(|f| f.map(|v| v.0)).collect();
+    let mut fixed = vec![false; bm.mesh.num_vertices()];
+    for v in bm.surface_vertex.iter().chain(&bm.box_corners) {
+        fixed[v.index()] = true;
+    }
+    let mut ops = ops::Ops::new(
+        Local::new(bm.mesh),
+        Locks::of_faces(&boundary),
+        bm.region,
+        fixed,
+    );
+    // The domain's tets, worst first.
+    let tets = |ops: &ops::Ops| {
+        let mut all: Vec<(f64, u32, [u32; 4])> = ops
+            .l
+            .mesh
+            .finite_tets()
+            .filter(|t| ops.region[t.index()] != 0)
+            .map(|t| (ops.tet_quality(t.0), t.0, ops.l.tet(t.0)))
+            .collect();
+        all.sort_by(|a, b| b.0.total_cmp(&a.0));
+        all
+    };
+    let lower = |a: &[(f64, u32, [u32; 4])], b: &[(f64, u32, [u32; 4])]| {
+        let first_change = a.iter().zip(b).find(|(x, y)| x.0 != y.0);
+        first_change.is_some_and(|(x, y)| y.0 < x.0)
+    };
+    let mut before = tets(&ops);
+    let bad: Vec<(f64, u32, [u32; 4])> = before.iter().copied().filter(|b| b.0 > 3.0).collect();
+    let mut applied = 0;
+    for (_, t, v) in bad {
+        if ops.l.tet(t) != v || !ops.insert_by_surface_edge(t) {
+            continue;
+        }
+        applied += 1;
+        let after = tets(&ops);
+        assert!(
+            lower(&before, &after),
+            "insertion {applied} did not lower the values"
+        );
+        before = after;
+    }
+    assert!(applied > 0, "no wedge insertion applied");
+    ops.l
+        .mesh
+        .validate(false)
+        .expect("valid after the insertions");
     let mut scratch = Vec::new();
     for f in &boundary {
         assert!(
