@@ -474,6 +474,12 @@ fn improve(
             return true;
         }
     }
+    for i in 0..4 {
+        if ops.remove_faces(t, i) {
+            stats.face_flips += 1;
+            return true;
+        }
+    }
     for x in v {
         if ops.smooth(x, options.smoothing) {
             stats.smoothed += 1;

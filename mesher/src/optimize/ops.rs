@@ -16,6 +16,7 @@
 //!   (the tet with its neighbours, the tet alone, the rings of its free edges), in
 //!   [`insert`].
 
+mod faces;
 mod insert;
 
 use super::Smoothing;

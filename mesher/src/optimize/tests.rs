@@ -641,3 +641,73 @@ fn points_by_surface_edges_keep_the_mesh_and_lower_its_worst() {
         );
     }
 }
+
+/// Multi-face removal (`Ops::remove_faces`): a bipyramid over a hexagon whose four
+/// faces between the apexes are a fan from one corner (eight tets, long flat ones on
+/// the fan's diagonals) becomes the six tets around the axis between the apexes, when
+/// one apex at least is free.
+#[test]
+fn multi_face_removal_turns_a_fan_into_the_ring_of_the_axis() {
+    // 0-5 the hexagon, 6 the top apex, 7 the bottom one.
+    let mut points: Vec<Point> = (0..6)
+        .map(|k| {
+            let a = std::f64::consts::FRAC_PI_3 * k as f64;
+            Point::new(a.cos(), a.sin(), 0.0)
+        })
+        .collect();
+    points.push(Point::new(0.0, 0.0, 0.8));
+    points.push(Point::new(0.0, 0.0, -0.8));
+    let mut tets = Vec::new();
+    for i in 1..5u32 {
+        tets.push([0, i, i + 1, 6]);
+        tets.push([0, i + 1, i, 7]);
+    }
+    let boundary: Vec<[u32; 3]> = (0..6u32)
+        .flat_map(|i| [[i, (i + 1) % 6, 6], [(i + 1) % 6, i, 7]])
+        .collect();
+    let mesh = positive_mesh(points, tets);
+    let region = vec![1; mesh.num_slots()];
+    // The new edge joins the apexes: refused between two fixed vertices.
+    let fixed = vec![true; mesh.num_vertices()];
+    let mut pinned = ops::Ops::new(
+        Local::new(mesh.clone()),
+        Locks::of_faces(&boundary),
+        region.clone(),
+        fixed.clone(),
+    );
+    let any = pinned.l.mesh.finite_tets().next().expect("tets").0;
+    assert!(
+        (0..4).all(|i| !pinned.remove_faces(any, i)),
+        "both apexes fixed"
+    );
+    let mut fixed = fixed;
+    fixed[6] = false;
+    let mut ops = ops::Ops::new(Local::new(mesh), Locks::of_faces(&boundary), region, fixed);
+    let worst = |ops: &ops::Ops| {
+        ops.l
+            .mesh
+            .finite_tets()
+            .map(|t| (ops.tet_quality(t.0), t.0))
+            .max_by(|a, b| a.0.total_cmp(&b.0))
+            .expect("tets")
+    };
+    let (before, t) = worst(&ops);
+    let v = ops.l.tet(t);
+    let apex = (0..4).find(|&i| v[i] >= 6).expect("an apex");
+    assert!(ops.remove_faces(t, apex), "the removal should apply");
+    let (after, _) = worst(&ops);
+    assert!(after < before, "worst {before} -> {after}");
+    assert_eq!(ops.l.mesh.finite_tets().count(), 6, "the ring of the axis");
+    ops.l.mesh.validate(false).expect("valid after the removal");
+    let mut scratch = Vec::new();
+    assert!(
+        ops.l.find_edge(6, 7, &mut scratch).is_some(),
+        "the axis is an edge"
+    );
+    for f in &boundary {
+        assert!(
+            ops.l.has_face(f[0], f[1], f[2], &mut scratch),
+            "boundary face {f:?} kept"
+        );
+    }
+}
