@@ -2,7 +2,9 @@
 //! operation that lowers the worst `Q_K` around it: the collapse of one of its short
 //! edges (a free end onto the other), removal of one of its edges
 //! (ring re-triangulation, including the 3-2 and 4-4 flips), a 2-3 flip of one of its
-//! faces, the smoothing of one of its free vertices (§6.3.1), or, last, the insertion
+//! faces, a multi-face removal (the faces between one of its vertices and the apex
+//! across the opposite face replaced by the ring of the edge joining them), the
+//! smoothing of one of its free vertices (§6.3.1), or, last, the insertion
 //! of a point (the cone from a new point over the tet and its neighbours: slivers whose
 //! four vertices lie on the boundary). Passes repeat until one improves nothing or
 //! [`OptimizeOptions::max_passes`] is reached. A tet that no operation improved is not

@@ -6,7 +6,7 @@
 //!   program maximising the worst `1/Q_K` (Shewchuk, "Two discrete optimization
 //!   algorithms for the topological improvement of tetrahedral meshes", 2002); a ring
 //!   of 3 is the 3-2 flip, of 4 the 4-4 flip.
-//! - Face removal: the 2-3 flip.
+//! - Face removal: the 2-3 flip, and the multi-face removal of [`faces`].
 //! - Vertex smoothing (§6.3.1): the free vertex moves towards the mean of the ideal
 //!   points of its ball's faces (the apex of the regular tet on each face, on the
 //!   vertex's side), or towards the mean of its neighbours (Laplacian), by the longest
