@@ -447,6 +447,18 @@ fn debug_ops_on_a_tet() {
     eprintln!("insert_grown_around -> {ok}");
 }
 
+/// Checks that the mesh of `ops` is valid and still has every face of `boundary`.
+fn assert_valid_with_faces(ops: &ops::Ops, boundary: &[[u32; 3]], what: &str) {
+    ops.l.mesh.validate(false).expect(what);
+    let mut scratch = Vec::new();
+    for f in boundary {
+        assert!(
+            ops.l.has_face(f[0], f[1], f[2], &mut scratch),
+            "{what}: boundary face {f:?} kept"
+        );
+    }
+}
+
 /// The mesh of `tets` over `points`, each tet turned positive.
 fn positive_mesh(points: Vec<Point>, mut tets: Vec<[u32; 4]>) -> TetMesh {
     for t in &mut tets {
@@ -513,14 +525,7 @@ fn an_edge_split_lifts_the_flat_tets_of_a_fan() {
     assert!(ops.split_edge_of(t, 0.01), "the split should apply");
     let after = worst_of(&ops);
     assert!(after < 0.99 * before, "worst {before} -> {after}");
-    ops.l.mesh.validate(false).expect("valid after the split");
-    let mut scratch = Vec::new();
-    for f in &boundary {
-        assert!(
-            ops.l.has_face(f[0], f[1], f[2], &mut scratch),
-            "boundary face {f:?} kept"
-        );
-    }
+    assert_valid_with_faces(&ops, &boundary, "valid after the split");
 }
 
 /// The last resort's Delaunay cavity (`Ops::insert_delaunay_around`): a flat tet of
@@ -564,17 +569,7 @@ fn a_delaunay_cavity_lifts_a_flat_tet_under_a_ridge() {
     assert!(ops.insert_delaunay_around(t), "the insertion should apply");
     let after = qualities(&ops).iter().map(|q| q.0).fold(1.0, f64::max);
     assert!(after < 0.5 * before, "worst {before} -> {after}");
-    ops.l
-        .mesh
-        .validate(false)
-        .expect("valid after the insertion");
-    let mut scratch = Vec::new();
-    for f in &boundary {
-        assert!(
-            ops.l.has_face(f[0], f[1], f[2], &mut scratch),
-            "boundary face {f:?} kept"
-        );
-    }
+    assert_valid_with_faces(&ops, &boundary, "valid after the insertion");
 }
 
 /// The last resort's wedge (`Ops::insert_by_surface_edge`) on T(S,F) of a torus,
@@ -629,17 +624,7 @@ fn points_by_surface_edges_keep_the_mesh_and_lower_its_worst() {
         before = after;
     }
     assert!(applied > 0, "no wedge insertion applied");
-    ops.l
-        .mesh
-        .validate(false)
-        .expect("valid after the insertions");
-    let mut scratch = Vec::new();
-    for f in &boundary {
-        assert!(
-            ops.l.has_face(f[0], f[1], f[2], &mut scratch),
-            "boundary face {f:?} kept"
-        );
-    }
+    assert_valid_with_faces(&ops, &boundary, "valid after the insertions");
 }
 
 /// Multi-face removal (`Ops::remove_faces`): a bipyramid over a hexagon whose four
@@ -698,16 +683,10 @@ fn multi_face_removal_turns_a_fan_into_the_ring_of_the_axis() {
     let (after, _) = worst(&ops);
     assert!(after < before, "worst {before} -> {after}");
     assert_eq!(ops.l.mesh.finite_tets().count(), 6, "the ring of the axis");
-    ops.l.mesh.validate(false).expect("valid after the removal");
+    assert_valid_with_faces(&ops, &boundary, "valid after the removal");
     let mut scratch = Vec::new();
     assert!(
         ops.l.find_edge(6, 7, &mut scratch).is_some(),
         "the axis is an edge"
     );
-    for f in &boundary {
-        assert!(
-            ops.l.has_face(f[0], f[1], f[2], &mut scratch),
-            "boundary face {f:?} kept"
-        );
-    }
 }

@@ -91,16 +91,10 @@ impl Ops {
     /// (two of its faces on it) is lifted only by a point that re-cones the tets
     /// around it too; the valid points then lie in a thin lens.
     pub fn insert_grown_around(&mut self, t: u32) -> bool {
-        let r = self.region_of(t);
-        if r == 0 || self.l.is_ghost(t) {
-            return false;
+        match self.fixed_tet_region(t) {
+            Some(r) => self.insert_grown_layers(t, r, 2, false, 0.0),
+            None => false,
         }
-        let fixed = self
-            .l
-            .tet(t)
-            .iter()
-            .all(|&x| self.fixed.get(x as usize) == Some(&true));
-        fixed && self.insert_grown_layers(t, r, 2, false, 0.0)
     }
 
     /// [`Ops::insert_grown`] with `first`, then more layers up to [`GROWN_LAYERS`],
@@ -210,14 +204,10 @@ impl Ops {
     /// free edge: 3.05); on the same front output as without it, rotor's worst 104.68
     /// -> 74.66, elephant's 3.18 -> 3.11, knot2's 2.73 -> 2.71.
     pub fn insert_delaunay_around(&mut self, t: u32) -> bool {
-        let r = self.region_of(t);
-        if r == 0 || self.l.is_ghost(t) {
+        let Some(r) = self.fixed_tet_region(t) else {
             return false;
-        }
+        };
         let v = self.l.tet(t);
-        if !v.iter().all(|&x| self.fixed.get(x as usize) == Some(&true)) {
-            return false;
-        }
         let q = v.map(|x| self.l.p(x));
         let mut starts = vec![(q[0] + q[1] + q[2] + q[3]) * 0.25];
         for [i, j] in TET_EDGES {
@@ -250,14 +240,10 @@ impl Ops {
     /// perturbed by 1e-4 (nine runs): 104.68 on seven, 74.66 on two -> 74.66 on all
     /// nine; turbine's 202.35 -> 179.61 (`Q_t` 177.96); the other models' unchanged.
     pub fn insert_by_surface_edge(&mut self, t: u32) -> bool {
-        let r = self.region_of(t);
-        if r == 0 || self.l.is_ghost(t) {
+        let Some(r) = self.fixed_tet_region(t) else {
             return false;
-        }
+        };
         let v = self.l.tet(t);
-        if !v.iter().all(|&x| self.fixed.get(x as usize) == Some(&true)) {
-            return false;
-        }
         for [i, j] in TET_EDGES {
             if !self.locks.edge(v[i], v[j]) {
                 continue;
@@ -299,6 +285,18 @@ impl Ops {
             }
         }
         false
+    }
+
+    /// The region of `t` when it is a tet of the domain with four fixed vertices (the
+    /// last resorts that only insert a point).
+    fn fixed_tet_region(&self, t: u32) -> Option<u32> {
+        let r = self.region_of(t);
+        let fixed = self
+            .l
+            .tet(t)
+            .iter()
+            .all(|&x| self.fixed.get(x as usize) == Some(&true));
+        (r != 0 && !self.l.is_ghost(t) && fixed).then_some(r)
     }
 
     /// The tets of region `r` whose circumsphere holds `p`, grown from `t` (which is
