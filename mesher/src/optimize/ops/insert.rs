@@ -155,14 +155,7 @@ impl Ops {
         let mut start = 0;
         let mut stalled = false;
         for _ in 0..layers {
-            let end = cavity.len();
-            for k in start..end {
-                for u in self.open_neighbours(cavity[k], r) {
-                    if !cavity.contains(&u) {
-                        cavity.push(u);
-                    }
-                }
-            }
+            let end = self.grow_layer(&mut cavity, start, r);
             stalled = cavity.len() == end;
             start = end;
             if cavity.len() > MAX_GROWN_CAVITY {
@@ -262,14 +255,7 @@ impl Ops {
             let mut cavity: Vec<u32> = wedge.iter().map(|&(u, _)| u).collect();
             for grown in [false, true] {
                 if grown {
-                    for k in 0..cavity.len() {
-                        let around: Vec<u32> = self.open_neighbours(cavity[k], r).collect();
-                        for u in around {
-                            if !cavity.contains(&u) {
-                                cavity.push(u);
-                            }
-                        }
-                    }
+                    self.grow_layer(&mut cavity, 0, r);
                 }
                 if cavity.len() > MAX_GROWN_CAVITY || self.has_inner_lock(&cavity) {
                     break;
@@ -322,6 +308,20 @@ impl Ops {
             }
         }
         (!self.has_inner_lock(&cavity)).then_some(cavity)
+    }
+
+    /// Adds to `cavity` the neighbours ([`Ops::open_neighbours`]) of its tets from index
+    /// `from` on that it does not hold yet; returns its length before.
+    fn grow_layer(&self, cavity: &mut Vec<u32>, from: usize, r: u32) -> usize {
+        let end = cavity.len();
+        for k in from..end {
+            for u in self.open_neighbours(cavity[k], r) {
+                if !cavity.contains(&u) {
+                    cavity.push(u);
+                }
+            }
+        }
+        end
     }
 
     /// The neighbours of tet `c` in region `r` across its faces that are not
