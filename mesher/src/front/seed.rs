@@ -204,6 +204,10 @@ fn level(
         origin + (a + jitter(a)) * step
     };
     let index = |i: usize, j: usize, s: usize| (j * nx + i) * 2 + s;
+    let band = LEVEL_RATIO.sqrt();
+    // A point whose size cannot be in the band (every cell its jittered position may
+    // fall in has all its node sizes out of it) is not interpolated: NaN stands for
+    // "out of the band" (bunny00: most of the finest level's points).
     let sizes: Vec<Vec<f64>> = (0..nz)
         .into_par_iter()
         .map(|k| {
@@ -211,19 +215,32 @@ fn level(
             for j in 0..ny {
                 for i in 0..nx {
                     for s in 0..2 {
-                        h.push(grid.at(at(i, j, k, s)));
+                        let a = Point::new(i as f64, j as f64, k as f64) + 0.5 * s as f64;
+                        let reach = Point::splat(JITTER);
+                        let (lo, hi) = (origin + (a - reach) * step, origin + (a + reach) * step);
+                        h.push(if grid.may_be_in(lo, hi, h_ref / band, h_ref * band) {
+                            grid.at(at(i, j, k, s))
+                        } else {
+                            f64::NAN
+                        });
                     }
                 }
             }
             h
         })
         .collect();
+    // The sizes of the neighbours (the uniformity test) are interpolated where the
+    // screen above left them out.
     let size = |i: Option<usize>, j: Option<usize>, k: Option<usize>, s: usize| {
         let (i, j, k) = (i?, j?, k?);
         (i < nx && j < ny).then_some(())?;
-        sizes.get(k).map(|slice| slice[index(i, j, s)])
+        let h = sizes.get(k).map(|slice| slice[index(i, j, s)])?;
+        Some(if h.is_nan() {
+            grid.at(at(i, j, k, s))
+        } else {
+            h
+        })
     };
-    let band = LEVEL_RATIO.sqrt();
     let slices: Vec<Vec<Candidate>> = (0..nz)
         .into_par_iter()
         .map(|k| {
@@ -338,6 +355,9 @@ struct SizeGrid {
     step: f64,
     n: [usize; 3],
     h: Vec<f64>,
+    /// Per cell (`n - 1` per axis, x fastest): the smallest and largest size at its
+    /// eight nodes, which bound the trilinear sizes inside it.
+    range: Vec<(f64, f64)>,
 }
 
 impl SizeGrid {
@@ -346,7 +366,7 @@ impl SizeGrid {
         let n = ((extent / step).ceil() + Point::splat(1.0)).max(Point::splat(2.0));
         let n = [n.x as usize, n.y as usize, n.z as usize];
         let origin = domain.lo;
-        let h = (0..n[2])
+        let h: Vec<f64> = (0..n[2])
             .into_par_iter()
             .map(|k| {
                 // Each row starts from where the row before started (its neighbour),
@@ -367,7 +387,42 @@ impl SizeGrid {
             })
             .flatten()
             .collect();
-        SizeGrid { origin, step, n, h }
+        let range = cell_ranges(&h, n);
+        SizeGrid {
+            origin,
+            step,
+            n,
+            h,
+            range,
+        }
+    }
+
+    /// The cell of grid coordinate `x` along an axis of `n` nodes, as [`SizeGrid::at`]
+    /// picks it (clamped to the grid).
+    fn cell_index(x: f64, n: usize) -> usize {
+        (x.clamp(0.0, (n - 1) as f64).floor() as usize).min(n - 2)
+    }
+
+    /// False only when [`SizeGrid::at`] is below `lo_size` or above `hi_size` (both
+    /// with a relative margin of 1e-9, far above the rounding of the interpolation) at
+    /// every point of the box `[lo, hi]`: each cell the box meets has all its node
+    /// sizes on one side of the band. A NaN node size never rules a cell out.
+    fn may_be_in(&self, lo: Point, hi: Point, lo_size: f64, hi_size: f64) -> bool {
+        let (a, b) = (
+            (lo - self.origin) / self.step,
+            (hi - self.origin) / self.step,
+        );
+        let [nx, ny, nz] = self.n;
+        let span = |a: f64, b: f64, n: usize| Self::cell_index(a, n)..=Self::cell_index(b, n);
+        let (below, above) = (lo_size * (1.0 - 1e-9), hi_size * (1.0 + 1e-9));
+        span(a.z, b.z, nz).any(|k| {
+            span(a.y, b.y, ny).any(|j| {
+                span(a.x, b.x, nx).any(|i| {
+                    let (min, max) = self.range[(k * (ny - 1) + j) * (nx - 1) + i];
+                    !(max < below || min > above)
+                })
+            })
+        })
     }
 
     /// The size at `p`, trilinear in its cell (clamped to the grid).
@@ -396,6 +451,30 @@ impl SizeGrid {
     }
 }
 
+/// The smallest and largest of the eight node sizes of each cell of a grid of `n`
+/// nodes per axis (x fastest); NaN when a node size is NaN.
+fn cell_ranges(h: &[f64], n: [usize; 3]) -> Vec<(f64, f64)> {
+    let [nx, ny, nz] = n;
+    let mut out = Vec::with_capacity((nx - 1) * (ny - 1) * (nz - 1));
+    for k in 0..nz - 1 {
+        for j in 0..ny - 1 {
+            for i in 0..nx - 1 {
+                let mut r = (f64::INFINITY, f64::NEG_INFINITY);
+                for (a, b, c) in (0..8).map(|m| (m & 1, m >> 1 & 1, m >> 2)) {
+                    let x = h[((k + c) * ny + j + b) * nx + i + a];
+                    r = if x.is_nan() || r.0.is_nan() {
+                        (f64::NAN, f64::NAN)
+                    } else {
+                        (r.0.min(x), r.1.max(x))
+                    };
+                }
+                out.push(r);
+            }
+        }
+    }
+    out
+}
+
 /// A pseudo-random offset in `[-JITTER, JITTER]^3` for the lattice point at `at`: in a
 /// partly inserted lattice the cube corners are cospherical eight at a time, where
 /// the exact predicates would decide every test.
@@ -408,3 +487,69 @@ fn jitter(at: Point) -> Point {
 
 /// Largest offset of a seed from its lattice point, in lattice steps.
 const JITTER: f64 = 0.03;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::delaunay::sort::SplitMix64;
+
+    /// The screen of the lattice points is exact: wherever `may_be_in` rules a box out,
+    /// the interpolated size at every point of the box is out of the band.
+    #[test]
+    fn a_box_ruled_out_holds_no_size_in_the_band() {
+        let mut rng = SplitMix64::new(7);
+        let mut u = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        let n = [5, 4, 3];
+        let h: Vec<f64> = (0..n[0] * n[1] * n[2]).map(|_| 0.5 + u()).collect();
+        let range = cell_ranges(&h, n);
+        let grid = SizeGrid {
+            origin: Point::new(-1.0, 0.5, 2.0),
+            step: 0.25,
+            n,
+            h,
+            range,
+        };
+        let (mut ruled_out, mut checked) = (0, 0);
+        for _ in 0..2000 {
+            // Boxes inside the grid and past its ends (clamped like `at`).
+            let c = grid.origin + Point::new(u() * 1.6 - 0.3, u() * 1.2 - 0.3, u() * 0.9 - 0.3);
+            let r = Point::splat(u() * 0.05);
+            let (lo_size, hi_size) = (0.5 + u(), 0.0);
+            let hi_size = hi_size + lo_size * (1.0 + u() * 0.3);
+            if grid.may_be_in(c - r, c + r, lo_size, hi_size) {
+                continue;
+            }
+            ruled_out += 1;
+            for _ in 0..20 {
+                let p = c + Point::new(u() * 2.0 - 1.0, u() * 2.0 - 1.0, u() * 2.0 - 1.0) * r;
+                let s = grid.at(p);
+                assert!(s < lo_size || s > hi_size, "{s} in [{lo_size}, {hi_size}]");
+                checked += 1;
+            }
+        }
+        assert!(ruled_out > 100 && checked > 2000, "{ruled_out} {checked}");
+    }
+
+    /// A NaN node size never rules a cell out.
+    #[test]
+    fn a_nan_size_keeps_its_cells() {
+        let n = [2, 2, 2];
+        let mut h = vec![10.0; 8];
+        h[3] = f64::NAN;
+        let range = cell_ranges(&h, n);
+        let grid = SizeGrid {
+            origin: Point::ZERO,
+            step: 1.0,
+            n,
+            h,
+            range,
+        };
+        assert!(grid.may_be_in(Point::splat(0.4), Point::splat(0.6), 1.0, 2.0));
+        let fine = SizeGrid {
+            h: vec![10.0; 8],
+            range: cell_ranges(&[10.0; 8], n),
+            ..grid
+        };
+        assert!(!fine.may_be_in(Point::splat(0.4), Point::splat(0.6), 1.0, 2.0));
+    }
+}
