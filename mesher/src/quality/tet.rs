@@ -125,6 +125,86 @@ impl TetGeom {
     }
 }
 
+/// A face `(a, b, c)` prepared for the tets `(a, b, c, p)` of many apexes `p` (the cone
+/// of a point over a cavity's faces, scored at every candidate point): the terms of
+/// [`signed_volume`] and [`q_k`] that do not depend on `p` are computed once, by the
+/// same operations, so that [`ConeFace::signed_volume`] and [`ConeFace::q_k`] are
+/// bitwise those of `signed_volume(&[a, b, c, p])` and `q_k(&[a, b, c, p])`.
+#[derive(Clone, Copy, Debug)]
+pub struct ConeFace {
+    corners: [Point; 3],
+    /// `b - a`, `c - a`, `c - b`.
+    u: Point,
+    v: Point,
+    bc: Point,
+    /// Squared lengths of `u`, `v`, `bc`.
+    len2: [f64; 3],
+    /// `|u x v|`, twice the face's area (the normal opposite `p`).
+    base: f64,
+}
+
+impl ConeFace {
+    /// The face with corners `f`.
+    #[inline]
+    pub fn new(f: [Point; 3]) -> ConeFace {
+        let [a, b, c] = f;
+        let (u, v, bc) = (b - a, c - a, c - b);
+        ConeFace {
+            corners: f,
+            u,
+            v,
+            bc,
+            len2: [u.length_squared(), v.length_squared(), bc.length_squared()],
+            base: u.cross(v).length(),
+        }
+    }
+
+    /// The face's corners.
+    #[inline]
+    pub fn corners(&self) -> [Point; 3] {
+        self.corners
+    }
+
+    /// `signed_volume(&[a, b, c, p])`.
+    #[inline]
+    pub fn signed_volume(&self, p: Point) -> f64 {
+        self.u.dot(self.v.cross(p - self.corners[0])) / 6.0
+    }
+
+    /// `q_k(&[a, b, c, p])`.
+    #[inline]
+    pub fn q_k(&self, p: Point) -> f64 {
+        let [a, b, c] = self.corners;
+        let (w, bd, cd) = (p - a, p - b, p - c);
+        let n_b = self.v.cross(w);
+        let det = self.u.dot(n_b);
+        // `TetGeom::twice_area` and `h_max` in the same order.
+        let twice_area = [
+            bd.cross(self.bc).length(),
+            n_b.length(),
+            w.cross(self.u).length(),
+        ]
+        .into_iter()
+        .chain([self.base])
+        .sum::<f64>();
+        let len2 = [
+            self.len2[0],
+            self.len2[1],
+            w.length_squared(),
+            self.len2[2],
+            bd.length_squared(),
+            cd.length_squared(),
+        ];
+        let h_max = len2.iter().copied().fold(0.0, f64::max).sqrt();
+        let q = ALPHA * h_max * twice_area / det.abs();
+        if q.is_finite() {
+            q
+        } else {
+            f64::INFINITY
+        }
+    }
+}
+
 /// Signed volume `det[b-a, c-a, d-a] / 6` (inexact construction; the sign agrees with
 /// `orient3d` except for nearly flat tets). NaN if a coordinate is NaN.
 #[inline]
@@ -296,6 +376,36 @@ mod tests {
             assert_eq!(q.to_bits(), q_k(&p).to_bits());
             assert_eq!(a.to_bits(), min_dihedral(&p).to_bits());
         }
+    }
+
+    #[test]
+    fn cone_face_is_q_k_and_volume_bit_for_bit() {
+        let mut rng = crate::delaunay::sort::SplitMix64::new(3);
+        let mut u = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0;
+        for k in 0..500 {
+            let mut f = [0.0; 12].map(|_| u());
+            // Some flat and some degenerate faces and apexes too.
+            if k % 7 == 0 {
+                f[11] = f[2];
+                f[8] = f[2];
+            }
+            let t = [
+                Point::new(f[0], f[1], f[2]),
+                Point::new(f[3], f[4], f[5]),
+                Point::new(f[6], f[7], f[8] * 1e-3),
+                Point::new(f[9], f[10], f[11]),
+            ];
+            let face = ConeFace::new([t[0], t[1], t[2]]);
+            assert_eq!(face.q_k(t[3]).to_bits(), q_k(&t).to_bits(), "{t:?}");
+            assert_eq!(
+                face.signed_volume(t[3]).to_bits(),
+                signed_volume(&t).to_bits(),
+                "{t:?}"
+            );
+        }
+        let flat = ConeFace::new([Point::ZERO, Point::X, Point::Y]);
+        assert_eq!(flat.q_k(Point::new(0.3, 0.3, 0.0)), f64::INFINITY);
+        assert_eq!(flat.q_k(Point::new(f64::NAN, 0.0, 1.0)), f64::INFINITY);
     }
 
     #[test]

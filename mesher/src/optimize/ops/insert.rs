@@ -10,7 +10,7 @@ use super::{max_until, random_descent_below, Ops};
 use crate::geom::predicates::{insphere, Sphere};
 use crate::geom::search::compass_below;
 use crate::geom::Point;
-use crate::quality::tet::{q_k, signed_volume, TET_EDGES};
+use crate::quality::tet::{ConeFace, TET_EDGES};
 use crate::tetmesh::{FaceRef, FACE_VERTICES};
 
 impl Ops {
@@ -449,7 +449,7 @@ impl Ops {
         candidates.extend(mean.is_finite().then_some(mean));
         candidates.extend(ideal.iter().copied().filter(|p| p.is_finite()));
         let face_corners = self.face_points(&faces);
-        let corners = || face_corners.iter().flatten();
+        let corners = || face_corners.iter().flat_map(|f| f.corners());
         candidates.push(corners().sum::<Point>() / (3 * faces.len()).max(1) as f64);
         candidates.extend(extra);
         let before = self.worst(cavity);
@@ -464,7 +464,7 @@ impl Ops {
             }
         }
         let (after, p) = best?;
-        let (lo, hi) = corners().fold((p, p), |(lo, hi), &c| (lo.min(c), hi.max(c)));
+        let (lo, hi) = corners().fold((p, p), |(lo, hi), c| (lo.min(c), hi.max(c)));
         Some(Cone {
             faces,
             before,
@@ -480,9 +480,12 @@ impl Ops {
         cone_score_at(&self.face_points(faces), p, bound)
     }
 
-    /// The corners of `faces`, read once for the many points a search scores.
-    pub(super) fn face_points(&self, faces: &[[u32; 3]]) -> Vec<[Point; 3]> {
-        faces.iter().map(|f| f.map(|x| self.l.p(x))).collect()
+    /// `faces` read and prepared once for the many points a search scores.
+    pub(super) fn face_points(&self, faces: &[[u32; 3]]) -> Vec<ConeFace> {
+        faces
+            .iter()
+            .map(|f| ConeFace::new(f.map(|x| self.l.p(x))))
+            .collect()
     }
 
     /// The Chebyshev centre of the half-spaces of `faces` (each with the region on its
@@ -509,13 +512,12 @@ impl Ops {
     }
 }
 
-/// [`Ops::cone_score`] over faces given by their corners.
-pub(super) fn cone_score_at(faces: &[[Point; 3]], p: Point, bound: f64) -> f64 {
-    let pts = |&[a, b, c]: &[Point; 3]| [a, b, c, p];
-    if faces.iter().any(|f| signed_volume(&pts(f)) <= 0.0) {
+/// [`Ops::cone_score`] over prepared faces.
+pub(super) fn cone_score_at(faces: &[ConeFace], p: Point, bound: f64) -> f64 {
+    if faces.iter().any(|f| f.signed_volume(p) <= 0.0) {
         return f64::INFINITY;
     }
-    max_until(faces.iter().map(|f| q_k(&pts(f))), bound)
+    max_until(faces.iter().map(|f| f.q_k(p)), bound)
 }
 
 /// A planned cone from a new point over a cavity's boundary faces.
