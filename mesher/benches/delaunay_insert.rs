@@ -15,7 +15,7 @@ use std::time::Duration;
 
 fn uniform(n: usize, seed: u64) -> Vec<Point> {
     let mut r = SplitMix64::new(seed);
-    let mut u = || (r.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+    let mut u = || r.unit();
     (0..n).map(|_| Point::new(u(), u(), u())).collect()
 }
 

@@ -39,6 +39,11 @@ impl SplitMix64 {
         z ^ (z >> 31)
     }
 
+    /// A uniform number in `[0, 1)`: the top 53 of the next 64 random bits.
+    pub fn unit(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
     /// A uniform integer in `0..n` (n > 0), by multiply-shift.
     pub fn below(&mut self, n: usize) -> usize {
         (((self.next_u64() >> 32) * n as u64) >> 32) as usize
@@ -238,7 +243,7 @@ mod tests {
     #[test]
     fn a_subset_ordered_over_the_whole_box_keeps_its_order_in_the_whole() {
         let mut rng = SplitMix64::new(7);
-        let mut u = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        let mut u = || rng.unit();
         let pts: Vec<Point> = (0..500).map(|_| Point::new(u(), u(), u())).collect();
         let whole = hilbert_order_by(&pts, |i| (i % 3) as u8);
         let keep = |i: usize| !i.is_multiple_of(7);

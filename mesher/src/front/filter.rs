@@ -646,7 +646,7 @@ mod tests {
     fn merged_points_filtered_again_keep_delta_f() {
         let delta_f = 0.9;
         let mut rng = crate::delaunay::sort::SplitMix64::new(777);
-        let mut rnd = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        let mut rnd = || rng.unit();
         let pts: Vec<(Point, f64)> = (0..2000)
             .map(|_| {
                 let p = Point::new(rnd(), rnd(), rnd());

@@ -481,7 +481,7 @@ fn cell_ranges(h: &[f64], n: [usize; 3]) -> Vec<(f64, f64)> {
 fn jitter(at: Point) -> Point {
     let key = (at.x * 2.0) as u64 ^ ((at.y * 2.0) as u64) << 21 ^ ((at.z * 2.0) as u64) << 42;
     let mut rng = SplitMix64::new(key ^ 0x9E37_79B9_7F4A_7C15);
-    let mut next = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0;
+    let mut next = || rng.unit() * 2.0 - 1.0;
     Point::new(next(), next(), next()) * JITTER
 }
 
@@ -498,7 +498,7 @@ mod tests {
     #[test]
     fn a_box_ruled_out_holds_no_size_in_the_band() {
         let mut rng = SplitMix64::new(7);
-        let mut u = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        let mut u = || rng.unit();
         let n = [5, 4, 3];
         let h: Vec<f64> = (0..n[0] * n[1] * n[2]).map(|_| 0.5 + u()).collect();
         let range = cell_ranges(&h, n);

@@ -672,7 +672,7 @@ pub(super) fn random_descent_below(
     reach: f64,
 ) -> (Point, f64) {
     let mut rng = crate::delaunay::sort::SplitMix64::new(0xDE5C);
-    let mut unit = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0;
+    let mut unit = || rng.unit() * 2.0 - 1.0;
     let mut best = (p, value);
     for s in DESCENT_SCALES {
         for _ in 0..DESCENT_TRIALS {

@@ -10,7 +10,7 @@ use crate::tetmesh::{TetId, FACE_VERTICES};
 /// ([`hull_domain`]). Random Delaunay meshes have slivers, so there is work to do.
 fn random_domain(n: usize, seed: u64) -> Domain {
     let mut rng = SplitMix64::new(seed);
-    let mut r = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+    let mut r = || rng.unit();
     let mut pts: Vec<Point> = (0..8)
         .map(|i| Point::new((i & 1) as f64, ((i >> 1) & 1) as f64, (i >> 2) as f64))
         .collect();

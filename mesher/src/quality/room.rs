@@ -297,7 +297,7 @@ fn search_starts(
         }
     }
     let mut rng = crate::delaunay::sort::SplitMix64::new(seed ^ 0x5EED_0000);
-    let mut unit = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+    let mut unit = || rng.unit();
     let mut starts: Vec<(f64, Point)> = vec![best];
     for _ in 0..RANDOM_STARTS {
         let p = Point::new(

@@ -381,7 +381,7 @@ mod tests {
     #[test]
     fn cone_face_is_q_k_and_volume_bit_for_bit() {
         let mut rng = crate::delaunay::sort::SplitMix64::new(3);
-        let mut u = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0;
+        let mut u = || rng.unit() * 2.0 - 1.0;
         for k in 0..500 {
             let mut f = [0.0; 12].map(|_| u());
             // Some flat and some degenerate faces and apexes too.

@@ -604,7 +604,7 @@ mod tests {
     fn graded_sizes_grow_by_at_most_g_per_unit_length_and_never_rise() {
         use crate::delaunay::{sort::SplitMix64, triangulate, DelaunayOptions};
         let mut rng = SplitMix64::new(5);
-        let mut r = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        let mut r = || rng.unit();
         let pts: Vec<Point> = (0..300).map(|_| Point::new(r(), r(), r())).collect();
         let mesh = triangulate(&pts, &DelaunayOptions::default()).unwrap().mesh;
         // Sizes from 0.001 to 1, unrelated to the positions.
