@@ -127,9 +127,9 @@ impl TetGeom {
 
 /// A face `(a, b, c)` prepared for the tets `(a, b, c, p)` of many apexes `p` (the cone
 /// of a point over a cavity's faces, scored at every candidate point): the terms of
-/// [`signed_volume`] and [`q_k`] that do not depend on `p` are computed once, by the
-/// same operations, so that [`ConeFace::signed_volume`] and [`ConeFace::q_k`] are
-/// bitwise those of `signed_volume(&[a, b, c, p])` and `q_k(&[a, b, c, p])`.
+/// [`TetGeom`] that do not depend on `p` are computed once, by the same operations, so
+/// that [`ConeFace::signed_volume`] and [`ConeFace::q_k`] are bitwise those of
+/// `signed_volume(&[a, b, c, p])` and `q_k(&[a, b, c, p])`.
 #[derive(Clone, Copy, Debug)]
 pub struct ConeFace {
     corners: [Point; 3],
@@ -139,8 +139,8 @@ pub struct ConeFace {
     bc: Point,
     /// Squared lengths of `u`, `v`, `bc`.
     len2: [f64; 3],
-    /// `|u x v|`, twice the face's area (the normal opposite `p`).
-    base: f64,
+    /// `u x v`, the normal opposite `p`.
+    base: Point,
 }
 
 impl ConeFace {
@@ -155,7 +155,7 @@ impl ConeFace {
             v,
             bc,
             len2: [u.length_squared(), v.length_squared(), bc.length_squared()],
-            base: u.cross(v).length(),
+            base: u.cross(v),
         }
     }
 
@@ -171,37 +171,25 @@ impl ConeFace {
         self.u.dot(self.v.cross(p - self.corners[0])) / 6.0
     }
 
-    /// `q_k(&[a, b, c, p])`.
+    /// `q_k(&[a, b, c, p])`: [`TetGeom::new`] with the face's terms read, not computed.
     #[inline]
     pub fn q_k(&self, p: Point) -> f64 {
         let [a, b, c] = self.corners;
         let (w, bd, cd) = (p - a, p - b, p - c);
         let n_b = self.v.cross(w);
-        let det = self.u.dot(n_b);
-        // `TetGeom::twice_area` and `h_max` in the same order.
-        let twice_area = [
-            bd.cross(self.bc).length(),
-            n_b.length(),
-            w.cross(self.u).length(),
-        ]
-        .into_iter()
-        .chain([self.base])
-        .sum::<f64>();
-        let len2 = [
-            self.len2[0],
-            self.len2[1],
-            w.length_squared(),
-            self.len2[2],
-            bd.length_squared(),
-            cd.length_squared(),
-        ];
-        let h_max = len2.iter().copied().fold(0.0, f64::max).sqrt();
-        let q = ALPHA * h_max * twice_area / det.abs();
-        if q.is_finite() {
-            q
-        } else {
-            f64::INFINITY
+        TetGeom {
+            det: self.u.dot(n_b),
+            normals: [bd.cross(self.bc), n_b, w.cross(self.u), self.base],
+            len2: [
+                self.len2[0],
+                self.len2[1],
+                w.length_squared(),
+                self.len2[2],
+                bd.length_squared(),
+                cd.length_squared(),
+            ],
         }
+        .q_k()
     }
 }
 
