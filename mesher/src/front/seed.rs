@@ -12,10 +12,13 @@
 //!
 //! Sizes vary, so there is one lattice per level of size (ratio [`LEVEL_RATIO`]); a
 //! lattice point is kept where the size field is within its level's band, inside the
-//! domain (located in T(S,F)) and farther than the clearance from the domain's
+//! domain (known from a coarse grid of the domain's sides, `sides`, away from the
+//! boundary; located in T(S,F) near it) and farther than the clearance from the domain's
 //! vertices and the points of the levels made before it. Each point is jittered a little: a partly
 //! inserted lattice is cospherical. The front accepts the seeds' tets whose edges fit
 //! and fills the gaps (between the surface and the lattices, and between levels).
+
+mod sides;
 
 use super::filter::Grid;
 use super::{Candidate, FieldMesh, FrontParams};
@@ -26,6 +29,7 @@ use crate::geom::{Aabb, Point};
 use crate::sizing::SizeField;
 use crate::tetmesh::TetId;
 use rayon::prelude::*;
+use sides::Sides;
 
 /// Largest number of lattice points tried per level (a finer level is skipped).
 const MAX_CANDIDATES: usize = 1 << 23;
@@ -71,6 +75,7 @@ pub(super) fn candidates(
     let mut levels = Vec::new();
     let mut tried = 0.0;
     let mut sizes: Option<SizeGrid> = None;
+    let mut sides: Option<Option<Sides>> = None;
     for k in lo_k.max(-16)..=hi_k.min(16) {
         let h_ref = domain.h_med * LEVEL_RATIO.powi(k);
         let points = lattice_points(&domain, params.seed_spacing * h_ref);
@@ -85,7 +90,10 @@ pub(super) fn candidates(
         // are mostly near the surface and give few seeds; see `SizeGrid`).
         let spacing = params.seed_spacing * h_ref.max(domain.h_med);
         let grid = sizes.get_or_insert_with(|| SizeGrid::new(&domain, field, spacing));
-        let seeds = level(fm, &domain, field, grid, params, h_ref);
+        let sides = sides
+            .get_or_insert_with(|| Sides::new(fm, domain.lo, domain.hi, spacing, domain.filter))
+            .as_ref();
+        let seeds = level(fm, &domain, field, (grid, sides), params, h_ref);
         // The next levels keep the clearance from this one's seeds too.
         for c in &seeds {
             domain.near.add_vertex(c.p, c.h);
@@ -189,7 +197,7 @@ fn level(
     fm: &FieldMesh,
     domain: &Domain,
     field: &dyn SizeField,
-    grid: &SizeGrid,
+    (grid, sides): (&SizeGrid, Option<&Sides>),
     params: &FrontParams,
     h_ref: f64,
 ) -> Vec<Candidate> {
@@ -218,8 +226,17 @@ fn level(
                         let a = Point::new(i as f64, j as f64, k as f64) + 0.5 * s as f64;
                         let reach = Point::splat(JITTER);
                         let (lo, hi) = (origin + (a - reach) * step, origin + (a + reach) * step);
+                        // A point known to be outside the domain is not interpolated
+                        // either: NaN drops it below, and a neighbour's test that
+                        // needs its size interpolates it then.
+                        let known_out = |p: Point| sides.and_then(|m| m.inside(p)) == Some(false);
                         h.push(if grid.may_be_in(lo, hi, h_ref / band, h_ref * band) {
-                            grid.at(at(i, j, k, s))
+                            let p = at(i, j, k, s);
+                            if known_out(p) {
+                                f64::NAN
+                            } else {
+                                grid.at(p)
+                            }
                         } else {
                             f64::NAN
                         });
@@ -255,6 +272,9 @@ fn level(
             // may be rows away).
             let mut column: Vec<Option<TetId>> = vec![None; nx * 2];
             let mut inside = |p: Point, c: usize| {
+                if let Some(known) = sides.and_then(|m| m.inside(p)) {
+                    return known;
+                }
                 if let Some(t) = column[c] {
                     locator.set_hint(t);
                 }
