@@ -118,18 +118,8 @@ fn icosphere_is_meshed_with_positive_tets_and_its_volume() {
 fn nested_spheres_bound_a_hollow_domain() {
     let Some(runner) = runner() else { return };
     let dir = scratch("nested");
-    let outer = icosphere(2);
-    let mut both = outer.clone();
-    let n = both.vertices.len() as u32;
-    both.vertices
-        .extend(outer.vertices.iter().map(|p| *p * 0.5));
     // The inner shell faces into the cavity (inward normals), as a hole's boundary does.
-    both.triangles.extend(
-        outer
-            .triangles
-            .iter()
-            .map(|t| [t[0] + n, t[2] + n, t[1] + n]),
-    );
+    let both = mesher::surface::generate::hollow(&icosphere(2), &icosphere(2), 0.5);
     let out = run(&runner, &dir, &both).unwrap();
     let (_, volume) = checked_volume(&out);
     let expected = enclosed_volume(&both);

@@ -137,17 +137,7 @@ fn quality_agrees_with_numpy_on_a_tetgen_mesh() {
 
 /// Two nested spheres (radius 1 and 0.5, the inner one facing inwards): a hollow ball.
 fn hollow_ball() -> mesher::Surface {
-    let outer = icosphere(2);
-    let mut s = outer.clone();
-    let n = outer.vertices.len() as u32;
-    s.vertices.extend(outer.vertices.iter().map(|p| *p * 0.5));
-    s.triangles.extend(
-        outer
-            .triangles
-            .iter()
-            .map(|t| [t[0] + n, t[2] + n, t[1] + n]),
-    );
-    s
+    mesher::surface::generate::hollow(&icosphere(2), &icosphere(2), 0.5)
 }
 
 #[test]

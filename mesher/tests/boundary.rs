@@ -8,7 +8,7 @@
 use mesher::boundary::{boundary_mesh, BoundaryError, BoundaryOptions, BoundaryReport, EdgeOrder};
 use mesher::geom::predicates::{orient3d, Orientation};
 use mesher::geom::Point;
-use mesher::surface::generate::{cube, icosphere, torus};
+use mesher::surface::generate::{cube, hollow, icosphere, torus};
 use mesher::Surface;
 
 mod common;
@@ -121,18 +121,7 @@ fn generated_shapes() {
 
 #[test]
 fn nested_spheres_give_the_shell_between_them() {
-    let outer = icosphere(3);
-    let inner = icosphere(2);
-    let n = outer.vertices.len() as u32;
-    let mut s = outer.clone();
-    s.vertices.extend(inner.vertices.iter().map(|p| *p * 0.5));
-    // The inner shell faces the cavity: reversed.
-    s.triangles.extend(
-        inner
-            .triangles
-            .iter()
-            .map(|t| [t[0] + n, t[2] + n, t[1] + n]),
-    );
+    let s = hollow(&icosphere(3), &icosphere(2), 0.5);
     let r = recover("nested spheres", &s);
     assert_eq!(r.regions, 1);
 }

@@ -7,7 +7,7 @@
 
 use mesher::front::{FrontParams, Remedial};
 use mesher::geom::Point;
-use mesher::surface::generate::{cube, icosphere, torus};
+use mesher::surface::generate::{cube, hollow, icosphere, torus};
 use mesher::{mesh, Meshed, Params, Report, SizeSpec, Surface};
 
 mod common;
@@ -65,17 +65,7 @@ fn generated_shapes() {
 /// the mesh is finer there (more tets) and still valid, with the boundary kept.
 #[test]
 fn graded_sizes_fill_a_narrow_gap_more_finely() {
-    let outer = icosphere(1);
-    let inner = icosphere(3);
-    let n = outer.vertices.len() as u32;
-    let mut s = outer.clone();
-    s.vertices.extend(inner.vertices.iter().map(|p| *p * 0.8));
-    s.triangles.extend(
-        inner
-            .triangles
-            .iter()
-            .map(|t| [t[0] + n, t[2] + n, t[1] + n]),
-    );
+    let s = hollow(&icosphere(1), &icosphere(3), 0.8);
     let (_, plain) = check("gap", &s, &Params::default());
     let graded = Params {
         gradation: Some(0.3),
@@ -98,17 +88,7 @@ fn graded_sizes_fill_a_narrow_gap_more_finely() {
 
 #[test]
 fn nested_spheres_fill_the_shell() {
-    let outer = icosphere(3);
-    let inner = icosphere(2);
-    let n = outer.vertices.len() as u32;
-    let mut s = outer.clone();
-    s.vertices.extend(inner.vertices.iter().map(|p| *p * 0.5));
-    s.triangles.extend(
-        inner
-            .triangles
-            .iter()
-            .map(|t| [t[0] + n, t[2] + n, t[1] + n]),
-    );
+    let s = hollow(&icosphere(3), &icosphere(2), 0.5);
     let (m, _) = check("nested spheres", &s, &Params::default());
     // No field point inside the hole.
     let vm = m.to_volume_mesh();

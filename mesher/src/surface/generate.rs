@@ -99,6 +99,21 @@ pub fn torus(nu: usize, nv: usize, major: f64, minor: f64) -> Surface {
     }
 }
 
+/// A hollow body: the shell `outer` around `inner` scaled by `scale` about the origin
+/// and reversed (facing the cavity), so that the domain is the space between them.
+pub fn hollow(outer: &Surface, inner: &Surface, scale: f64) -> Surface {
+    let n = outer.vertices.len() as u32;
+    let mut s = outer.clone();
+    s.vertices.extend(inner.vertices.iter().map(|p| *p * scale));
+    s.triangles.extend(
+        inner
+            .triangles
+            .iter()
+            .map(|t| [t[0] + n, t[2] + n, t[1] + n]),
+    );
+    s
+}
+
 /// The cube `[0, 1]^3` with each face split into `n x n` squares of two triangles.
 pub fn cube(n: usize) -> Surface {
     let n = n.max(1);

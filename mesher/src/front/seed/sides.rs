@@ -176,7 +176,7 @@ mod tests {
     use crate::boundary::{boundary_mesh, BoundaryOptions};
     use crate::delaunay::sort::SplitMix64;
     use crate::delaunay::Constraints;
-    use crate::surface::generate::{icosphere, torus};
+    use crate::surface::generate::{hollow, icosphere, torus};
     use crate::surface::Surface;
 
     /// The front's mesh of T(S,F) (no sizes: the sides do not read them).
@@ -231,18 +231,7 @@ mod tests {
 
     #[test]
     fn the_shell_between_nested_spheres() {
-        let outer = icosphere(3);
-        let inner = icosphere(2);
-        let n = outer.vertices.len() as u32;
-        let mut s = outer.clone();
-        s.vertices.extend(inner.vertices.iter().map(|p| *p * 0.5));
-        s.triangles.extend(
-            inner
-                .triangles
-                .iter()
-                .map(|t| [t[0] + n, t[2] + n, t[1] + n]),
-        );
-        agrees_with_the_walks(&s, 0.08);
+        agrees_with_the_walks(&hollow(&icosphere(3), &icosphere(2), 0.5), 0.08);
     }
 
     /// No grid for an unusable step or too many cells.
