@@ -21,10 +21,15 @@ pub(crate) const MAX_RING: usize = 16;
 pub(crate) struct Locks {
     pub edges: HashSet<(u32, u32)>,
     pub faces: HashSet<[u32; 3]>,
+    /// Per vertex, whether a locked face has it ([`Locks::of_faces`] only; empty:
+    /// not known, every question goes to the sets).
+    on: Vec<bool>,
 }
 
 impl Locks {
-    /// The faces locked, and their edges.
+    /// The faces locked, and their edges. The sets must not grow afterwards: an edge
+    /// or face with a vertex on none of these faces is answered "not locked" without
+    /// a look-up (most of those the optimiser asks about have a free vertex).
     pub fn of_faces(faces: &[[u32; 3]]) -> Locks {
         let mut locks = Locks::default();
         for f in faces {
@@ -33,14 +38,34 @@ impl Locks {
             for (a, b) in [(s[0], s[1]), (s[1], s[2]), (s[0], s[2])] {
                 locks.edges.insert((a, b));
             }
+            if let Some(&top) = s.last() {
+                if locks.on.len() <= top as usize {
+                    locks.on.resize(top as usize + 1, false);
+                }
+            }
+            for v in s {
+                locks.on[v as usize] = true;
+            }
         }
         locks
     }
 
+    /// True when `v` is known to be on no locked face.
+    #[inline]
+    fn off(&self, v: u32) -> bool {
+        !self.on.is_empty() && !self.on.get(v as usize).copied().unwrap_or(false)
+    }
+
     pub fn edge(&self, a: u32, b: u32) -> bool {
+        if self.off(a) || self.off(b) {
+            return false;
+        }
         self.edges.contains(&(a.min(b), a.max(b)))
     }
     pub fn face(&self, f: [u32; 3]) -> bool {
+        if f.iter().any(|&v| self.off(v)) {
+            return false;
+        }
         let mut s = f;
         s.sort_unstable();
         self.faces.contains(&s)
@@ -354,6 +379,30 @@ fn triangulation_dp(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The vertex marks of `of_faces` change no answer: every edge and face over a
+    /// set of vertices, some on locked faces, some on none, and some past the marks.
+    #[test]
+    fn locks_answer_as_their_sets() {
+        let faces = [[0, 1, 2], [2, 1, 3], [5, 7, 6]];
+        let locks = Locks::of_faces(&faces);
+        let sets = Locks {
+            edges: locks.edges.clone(),
+            faces: locks.faces.clone(),
+            on: Vec::new(),
+        };
+        let n = 10;
+        for a in 0..n {
+            for b in 0..n {
+                assert_eq!(locks.edge(a, b), sets.edge(a, b), "{a} {b}");
+                for c in 0..n {
+                    assert_eq!(locks.face([a, b, c]), sets.face([a, b, c]), "{a} {b} {c}");
+                }
+            }
+        }
+        assert!(locks.face([3, 2, 1]) && locks.edge(7, 5) && !locks.face([0, 1, 3]));
+        assert!(!locks.edge(4, 0) && !locks.edge(9, 2));
+    }
 
     #[test]
     fn dp_triangulates_a_convex_polygon_and_forces_a_triangle() {

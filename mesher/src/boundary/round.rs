@@ -41,6 +41,7 @@ pub(super) fn recover_all(
     let Locks {
         edges: kept_edges,
         faces: mut kept_faces,
+        ..
     } = std::mem::take(&mut rec.locks);
     let since = rec.l.stamps.clock;
     rec.locks.edges = kept_edges;
