@@ -212,13 +212,15 @@ impl Ops {
     /// until a tet at one of its ends has changed. The key is the edge as called: the
     /// ring's orientation and start, so rounding at a tie, follow the order.
     pub fn remove_edge(&mut self, x: u32, y: u32) -> bool {
+        // A constrained edge stays: answered before the memory of failures (which it
+        // would only fill).
+        if self.locks.edge(x, y) {
+            return false;
+        }
         self.unless_failed((x, y, Kind::Remove), |o| o.remove_edge_now(x, y))
     }
 
     fn remove_edge_now(&mut self, x: u32, y: u32) -> bool {
-        if self.locks.edge(x, y) {
-            return false;
-        }
         let Some(ring) = self.l.ring(x, y, &mut self.scratch) else {
             return false;
         };
