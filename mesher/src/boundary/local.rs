@@ -36,6 +36,54 @@ pub(crate) enum Refused {
     Full,
 }
 
+/// For the positions `ia != ib` of an edge's ends `a`, `b` in a tet `v`, the other two
+/// positions `[ip, iq]` ordered so that `(a, b, v[ip], v[iq])` is an even permutation
+/// of the tet, so positive when the tet is: `(ia, ib, ip, iq)` has an even number of
+/// inversions.
+const RING_ORDER: [[[u8; 2]; 4]; 4] = ring_order();
+
+const fn ring_order() -> [[[u8; 2]; 4]; 4] {
+    let mut table = [[[0u8; 2]; 4]; 4];
+    let mut ia = 0;
+    while ia < 4 {
+        let mut ib = 0;
+        while ib < 4 {
+            if ia != ib {
+                let (mut rest, mut k, mut x) = ([0usize; 2], 0, 0);
+                while x < 4 {
+                    if x != ia && x != ib {
+                        rest[k] = x;
+                        k += 1;
+                    }
+                    x += 1;
+                }
+                let order = [ia, ib, rest[0], rest[1]];
+                let mut inversions = 0;
+                let mut x = 0;
+                while x < 4 {
+                    let mut y = x + 1;
+                    while y < 4 {
+                        if order[x] > order[y] {
+                            inversions += 1;
+                        }
+                        y += 1;
+                    }
+                    x += 1;
+                }
+                let (p, q) = if inversions % 2 == 0 {
+                    (rest[0], rest[1])
+                } else {
+                    (rest[1], rest[0])
+                };
+                table[ia][ib] = [p as u8, q as u8];
+            }
+            ib += 1;
+        }
+        ia += 1;
+    }
+    table
+}
+
 /// The mesh with a vertex-to-tet map, kept valid by every change made through it.
 #[derive(Debug)]
 pub(crate) struct Local {
@@ -587,17 +635,12 @@ impl Local {
             let v = self.tet(t);
             let ia = v.iter().position(|&x| x == a)?;
             let ib = v.iter().position(|&x| x == b)?;
-            let mut others = (0..4).filter(|&i| i != ia && i != ib);
-            let (i, j) = (others.next()?, others.next()?);
-            // Every live finite tet is positive, so (a, b, v[i], v[j]) is positive
-            // exactly when (ia, ib, i, j) is an even permutation of (0, 1, 2, 3): the
-            // orientation follows from the vertex order, with no predicate.
-            let order = [ia, ib, i, j];
-            let inversions = (0..4)
-                .flat_map(|x| (x + 1..4).map(move |y| (x, y)))
-                .filter(|&(x, y)| order[x] > order[y])
-                .count();
-            let (ip, iq) = if inversions % 2 == 0 { (i, j) } else { (j, i) };
+            if ia == ib {
+                return None;
+            }
+            // Every live finite tet is positive, so the orientation follows from the
+            // vertex order, with no predicate (see `RING_ORDER`).
+            let [ip, iq] = RING_ORDER[ia][ib].map(usize::from);
             let p = v[ip];
             debug_assert_eq!(
                 self.orient(a, b, p, v[iq]),

@@ -97,3 +97,40 @@ fn a_face_listed_more_than_twice_is_refused() {
     assert_eq!(l.replace(&old, &t), Ok(()));
     l.mesh.validate(false).unwrap();
 }
+
+/// `RING_ORDER` orders the two other vertices of a positive tet so that the edge's
+/// ends and them are positive, for every ordered pair of positions.
+#[test]
+fn the_ring_order_keeps_the_tets_orientation() {
+    use crate::geom::predicates::{orient3d, Orientation};
+    let p = [
+        Point::new(0.0, 0.0, 0.0),
+        Point::new(1.0, 0.0, 0.0),
+        Point::new(0.0, 1.0, 0.0),
+        Point::new(0.0, 0.0, 1.0),
+    ];
+    assert_eq!(orient3d(p[0], p[1], p[2], p[3]), Orientation::Positive);
+    // Every even permutation of a positive tet is positive too.
+    for perm in [
+        [0, 1, 2, 3],
+        [1, 0, 3, 2],
+        [2, 3, 0, 1],
+        [3, 2, 1, 0],
+        [1, 2, 0, 3],
+    ] {
+        let q = perm.map(|k| p[k]);
+        for ia in 0..4 {
+            for ib in (0..4).filter(|&ib| ib != ia) {
+                let [ip, iq] = RING_ORDER[ia][ib].map(usize::from);
+                let mut seen = [ia, ib, ip, iq];
+                seen.sort_unstable();
+                assert_eq!(seen, [0, 1, 2, 3]);
+                assert_eq!(
+                    orient3d(q[ia], q[ib], q[ip], q[iq]),
+                    Orientation::Positive,
+                    "{perm:?} {ia} {ib}"
+                );
+            }
+        }
+    }
+}
