@@ -37,52 +37,15 @@ pub(crate) enum Refused {
 }
 
 /// For the positions `ia != ib` of an edge's ends `a`, `b` in a tet `v`, the other two
-/// positions `[ip, iq]` ordered so that `(a, b, v[ip], v[iq])` is an even permutation
-/// of the tet, so positive when the tet is: `(ia, ib, ip, iq)` has an even number of
-/// inversions.
-const RING_ORDER: [[[u8; 2]; 4]; 4] = ring_order();
-
-const fn ring_order() -> [[[u8; 2]; 4]; 4] {
-    let mut table = [[[0u8; 2]; 4]; 4];
-    let mut ia = 0;
-    while ia < 4 {
-        let mut ib = 0;
-        while ib < 4 {
-            if ia != ib {
-                let (mut rest, mut k, mut x) = ([0usize; 2], 0, 0);
-                while x < 4 {
-                    if x != ia && x != ib {
-                        rest[k] = x;
-                        k += 1;
-                    }
-                    x += 1;
-                }
-                let order = [ia, ib, rest[0], rest[1]];
-                let mut inversions = 0;
-                let mut x = 0;
-                while x < 4 {
-                    let mut y = x + 1;
-                    while y < 4 {
-                        if order[x] > order[y] {
-                            inversions += 1;
-                        }
-                        y += 1;
-                    }
-                    x += 1;
-                }
-                let (p, q) = if inversions % 2 == 0 {
-                    (rest[0], rest[1])
-                } else {
-                    (rest[1], rest[0])
-                };
-                table[ia][ib] = [p as u8, q as u8];
-            }
-            ib += 1;
-        }
-        ia += 1;
-    }
-    table
-}
+/// positions `[ip, iq]` ordered so that `(ia, ib, ip, iq)` is an even permutation of
+/// `(0, 1, 2, 3)`: `(a, b, v[ip], v[iq])` is then positive when the tet is (test
+/// `the_ring_order_keeps_the_tets_orientation`). The diagonal is unused.
+const RING_ORDER: [[[u8; 2]; 4]; 4] = [
+    [[0, 0], [2, 3], [3, 1], [1, 2]],
+    [[3, 2], [0, 0], [0, 3], [2, 0]],
+    [[1, 3], [3, 0], [0, 0], [0, 1]],
+    [[2, 1], [0, 2], [1, 0], [0, 0]],
+];
 
 /// The mesh with a vertex-to-tet map, kept valid by every change made through it.
 #[derive(Debug)]

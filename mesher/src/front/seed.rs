@@ -223,22 +223,24 @@ fn level(
             for j in 0..ny {
                 for i in 0..nx {
                     for s in 0..2 {
-                        let a = Point::new(i as f64, j as f64, k as f64) + 0.5 * s as f64;
-                        let reach = Point::splat(JITTER);
-                        let (lo, hi) = (origin + (a - reach) * step, origin + (a + reach) * step);
                         // A point known to be outside the domain is neither screened
                         // nor interpolated (the grid of sides answers first: bunny00's
                         // front 5.05 -> 4.90 s): NaN drops it below, and a neighbour's
                         // test that needs its size interpolates it then.
                         let p = at(i, j, k, s);
                         let out = sides.and_then(|m| m.inside(p)) == Some(false);
-                        h.push(
-                            if !out && grid.may_be_in(lo, hi, h_ref / band, h_ref * band) {
-                                grid.at(p)
-                            } else {
-                                f64::NAN
-                            },
-                        );
+                        let screened = || {
+                            let a = Point::new(i as f64, j as f64, k as f64) + 0.5 * s as f64;
+                            let reach = Point::splat(JITTER);
+                            let (lo, hi) =
+                                (origin + (a - reach) * step, origin + (a + reach) * step);
+                            grid.may_be_in(lo, hi, h_ref / band, h_ref * band)
+                        };
+                        h.push(if !out && screened() {
+                            grid.at(p)
+                        } else {
+                            f64::NAN
+                        });
                     }
                 }
             }

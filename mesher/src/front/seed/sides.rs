@@ -24,6 +24,9 @@ const MAX_CELLS: usize = 1 << 22;
 /// Cell state: a boundary face may meet it.
 const CLOSED: u32 = u32::MAX;
 
+/// Cell state: open, not labelled yet.
+const UNLABELLED: u32 = CLOSED - 1;
+
 /// The grid and, per open cell, its connected set; per set, its side.
 pub(in crate::front) struct Sides {
     origin: Point,
@@ -59,7 +62,7 @@ impl Sides {
             origin,
             step,
             n,
-            set: vec![0; n[0] * n[1] * n[2]],
+            set: vec![UNLABELLED; n[0] * n[1] * n[2]],
             inside: Vec::new(),
         };
         // Far above the rounding of `(p - origin) / step` at the box's coordinates.
@@ -128,15 +131,11 @@ impl Sides {
     /// per set.
     fn label_sets(&mut self, fm: &FieldMesh, filter: StaticFilter) {
         let [nx, ny, nz] = self.n;
-        const NONE: u32 = CLOSED - 1;
-        for s in self.set.iter_mut().filter(|s| **s != CLOSED) {
-            *s = NONE;
-        }
         let mut locator = Kernel::new();
         locator.set_filter(filter);
         let mut queue = VecDeque::new();
         for start in 0..self.set.len() {
-            if self.set[start] != NONE {
+            if self.set[start] != UNLABELLED {
                 continue;
             }
             let id = self.inside.len() as u32;
@@ -153,7 +152,7 @@ impl Sides {
                     (z + 1 < nz).then(|| c + nx * ny),
                 ];
                 for d in nbrs.into_iter().flatten() {
-                    if self.set[d] == NONE {
+                    if self.set[d] == UNLABELLED {
                         self.set[d] = id;
                         queue.push_back(d);
                     }
