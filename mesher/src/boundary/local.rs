@@ -587,8 +587,9 @@ impl Local {
         self.ring_from(t0, a, b)
     }
 
-    /// [`Self::ring`] from a tet `t0` known to hold the edge `ab` (no search).
-    fn ring_from(&self, t0: u32, a: u32, b: u32) -> Option<Vec<(u32, u32)>> {
+    /// [`Self::ring`] from a tet `t0` known to hold the edge `ab` (no search): the same
+    /// cycle, started at `t0`.
+    pub fn ring_from(&self, t0: u32, a: u32, b: u32) -> Option<Vec<(u32, u32)>> {
         let mut ring = Vec::with_capacity(8);
         let mut t = t0;
         loop {

@@ -465,7 +465,7 @@ fn improve(
         return true;
     }
     for (i, j) in [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)] {
-        if ops.remove_edge(v[i], v[j]) {
+        if ops.remove_edge(t, v[i], v[j]) {
             stats.edge_removals += 1;
             return true;
         }

@@ -205,27 +205,52 @@ impl Ops {
         done
     }
 
-    /// Removes edge `xy` if the best re-triangulation of its ring is better. (The ring
-    /// starts where [`Local::ring`] finds the edge: starting it elsewhere, say at the bad
-    /// tet, rotates the polygon, which changes the choice among equally good
-    /// triangulations and so the whole run.) An edge that failed is not tried again
+    /// Removes edge `xy` of tet `t` if the best re-triangulation of its ring is better.
+    /// (The ring applied starts where [`Local::ring`] finds the edge: starting it
+    /// elsewhere, say at the bad tet, rotates the polygon, which changes the choice
+    /// among equally good triangulations and so the whole run; see
+    /// [`Ops::remove_edge_now`] for the ring read from `t`.) An edge that failed is not tried again
     /// until a tet at one of its ends has changed. The key is the edge as called: the
     /// ring's orientation and start, so rounding at a tie, follow the order.
-    pub fn remove_edge(&mut self, x: u32, y: u32) -> bool {
+    pub fn remove_edge(&mut self, t: u32, x: u32, y: u32) -> bool {
         // A constrained edge stays: answered before the memory of failures (which it
         // would only fill).
         if self.locks.edge(x, y) {
             return false;
         }
-        self.unless_failed((x, y, Kind::Remove), |o| o.remove_edge_now(x, y))
+        self.unless_failed((x, y, Kind::Remove), |o| o.remove_edge_now(t, x, y))
     }
 
-    fn remove_edge_now(&mut self, x: u32, y: u32) -> bool {
+    fn remove_edge_now(&mut self, t: u32, x: u32, y: u32) -> bool {
+        // Most removals fail, and whether one succeeds does not depend on where its ring
+        // starts (only ties among equally good triangulations do): the ring read from
+        // `t` answers that without a search for the edge; only a removal that will be
+        // made reads the ring as the search finds it, whose start decides the ties.
+        let Some(ring) = self.l.ring_from(t, x, y) else {
+            return false;
+        };
+        if self.removal_plan(&ring, x, y).is_none() {
+            return false;
+        }
         let Some(ring) = self.l.ring(x, y, &mut self.scratch) else {
             return false;
         };
-        if ring.len() < 3 || ring.len() > MAX_RING {
+        let Some((r, new)) = self.removal_plan(&ring, x, y) else {
             return false;
+        };
+        let old: Vec<u32> = ring.iter().map(|e| e.0).collect();
+        if self.l.replace(&old, &new).is_err() {
+            return false;
+        }
+        self.claim(r);
+        true
+    }
+
+    /// The best re-triangulation of the ring of edge `xy` (`ring` as [`Local::ring`]
+    /// lists it) with its region, when it beats the ring's worst `Q_K`.
+    fn removal_plan(&self, ring: &[(u32, u32)], x: u32, y: u32) -> Option<(u32, Vec<[u32; 4]>)> {
+        if ring.len() < 3 || ring.len() > MAX_RING {
+            return None;
         }
         // On the stack (a ring has at most MAX_RING tets): most removals are tried
         // and fail, and four small allocations were a tenth of their cost.
@@ -238,7 +263,7 @@ impl Ops {
         let (old, poly) = (&old[..n], &poly[..n]);
         let r = self.region_of(old[0]);
         if r == 0 || old.iter().any(|&t| self.region_of(t) != r) {
-            return false;
+            return None;
         }
         let before = self.worst(old);
         let (px, py) = (self.l.p(x), self.l.p(y));
@@ -260,9 +285,7 @@ impl Ops {
             up.min(inv([b, a, c, px]))
         };
         let idx: [usize; MAX_RING] = std::array::from_fn(|k| k);
-        let Some(tris) = best_triangulation_above(&idx[..n], &q, floor) else {
-            return false;
-        };
+        let tris = best_triangulation_above(&idx[..n], &q, floor)?;
         let mut new = Vec::with_capacity(tris.len() * 2);
         for [i, j, k] in tris {
             let (a, b, c) = (poly[i], poly[j], poly[k]);
@@ -270,11 +293,7 @@ impl Ops {
             new.push([b, a, c, x]);
         }
         let after = new.iter().map(|&t| self.quality(t)).fold(1.0, f64::max);
-        if after >= before || self.l.replace(old, &new).is_err() {
-            return false;
-        }
-        self.claim(r);
-        true
+        (after < before).then_some((r, new))
     }
 
     /// The 2-3 flip of the face opposite vertex `i` of tet `t`, if better.

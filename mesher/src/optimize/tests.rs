@@ -423,7 +423,7 @@ fn debug_ops_on_a_tet() {
     eprintln!("tet {t} {:?} q {}", v, ops.tet_quality(t));
     for (i, j) in [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)] {
         let mark = ops.l.mark();
-        let ok = ops.remove_edge(v[i], v[j]);
+        let ok = ops.remove_edge(t, v[i], v[j]);
         eprintln!("remove_edge {} {} -> {ok}", v[i], v[j]);
         if ok {
             ops.l.undo(mark);
