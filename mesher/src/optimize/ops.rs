@@ -312,7 +312,7 @@ impl Ops {
         let (d, e) = (v[i], self.l.tet(u)[nb.facet()]);
         let new = [[f[0], f[1], e, d], [f[1], f[2], e, d], [f[2], f[0], e, d]];
         let before = self.worst(&[t, u]);
-        let after = new.iter().map(|&t| self.quality(t)).fold(1.0, f64::max);
+        let after = max_until(new.iter().map(|&t| self.quality(t)), before);
         if after >= before || self.l.replace(&[t, u], &new).is_err() {
             return false;
         }

@@ -5,7 +5,7 @@
 //! with no vertex inside, replaces their `2k` tets by the ring of the new edge `uw`,
 //! one tet per edge of the disc's border. The 2-3 flip is the one-face case.
 
-use super::Ops;
+use super::{max_until, Ops};
 use crate::tetmesh::{FaceRef, FACE_VERTICES};
 
 /// Faces of a sandwich gathered at most (the discs tried are its first faces in the
@@ -61,7 +61,9 @@ impl Ops {
                 continue;
             }
             let new: Vec<[u32; 4]> = border.iter().map(|&(x, y)| [x, y, w, u]).collect();
-            let after = new.iter().map(|&n| self.quality(n)).fold(1.0, f64::max);
+            // Only a disc better than the best so far matters: its worst stops there.
+            let bound = best.as_ref().map_or(f64::INFINITY, |b| b.0);
+            let after = max_until(new.iter().map(|&n| self.quality(n)), bound);
             if best.as_ref().is_none_or(|b| after < b.0) {
                 best = Some((after, k, new));
             }
