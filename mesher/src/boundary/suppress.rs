@@ -95,8 +95,9 @@ impl Recovery {
         false
     }
 
-    /// Removes the interior Steiner point `s`: the cone from a neighbour, else edge
-    /// removals at `s` (each lowers its degree) until a cone works; bounded. With
+    /// Removes the interior Steiner point `s`: the cone from a neighbour, or from a
+    /// vertex near it over its grown star (at every [`GROWN_EVERY`]-th degree), else
+    /// edge removals at `s` (each lowers its degree) until a cone works; bounded. With
     /// `deep`, then a search for any tetrahedralisation of its star without it, and
     /// again after removals of edges of its link
     /// ([`Recovery::remove_by_reconnection`]). The flips made on a failed attempt

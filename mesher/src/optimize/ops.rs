@@ -208,8 +208,8 @@ impl Ops {
     /// Removes edge `xy` of tet `t` if the best re-triangulation of its ring is better.
     /// (The ring applied starts where [`Local::ring`] finds the edge: starting it
     /// elsewhere, say at the bad tet, rotates the polygon, which changes the choice
-    /// among equally good triangulations and so the whole run; see
-    /// [`Ops::remove_edge_now`] for the ring read from `t`.) An edge that failed is not tried again
+    /// among equally good triangulations and so the whole run; the ring read from `t`
+    /// only rules out the removals that fail.) An edge that failed is not tried again
     /// until a tet at one of its ends has changed. The key is the edge as called: the
     /// ring's orientation and start, so rounding at a tie, follow the order.
     pub fn remove_edge(&mut self, t: u32, x: u32, y: u32) -> bool {
@@ -223,9 +223,10 @@ impl Ops {
 
     fn remove_edge_now(&mut self, t: u32, x: u32, y: u32) -> bool {
         // Most removals fail, and whether one succeeds does not depend on where its ring
-        // starts (only ties among equally good triangulations do): the ring read from
-        // `t` answers that without a search for the edge; only a removal that will be
-        // made reads the ring as the search finds it, whose start decides the ties.
+        // starts but through rounding (only ties among equally good triangulations do):
+        // the ring read from `t` answers that without a search for the edge; only a
+        // removal that will be made reads the ring as the search finds it, whose start
+        // decides the ties (on the corpus, only cheese's mesh changed).
         let Some(ring) = self.l.ring_from(t, x, y) else {
             return false;
         };
