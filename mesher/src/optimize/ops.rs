@@ -230,14 +230,24 @@ impl Ops {
         let Some(ring) = self.l.ring_from(t, x, y) else {
             return false;
         };
-        if self.removal_plan(&ring, x, y).is_none() {
-            return false;
-        }
-        let Some(ring) = self.l.ring(x, y, &mut self.scratch) else {
+        let Some(plan) = self.removal_plan(&ring, x, y) else {
             return false;
         };
-        let Some((r, new)) = self.removal_plan(&ring, x, y) else {
+        // The search's ring is the one read, and its plan the one made, when the search
+        // lands on `t`.
+        let Some(t0) = self.l.find_edge(x, y, &mut self.scratch) else {
             return false;
+        };
+        let (ring, (r, new)) = if t0 == t {
+            (ring, plan)
+        } else {
+            let Some(ring) = self.l.ring_from(t0, x, y) else {
+                return false;
+            };
+            let Some(plan) = self.removal_plan(&ring, x, y) else {
+                return false;
+            };
+            (ring, plan)
         };
         let old: Vec<u32> = ring.iter().map(|e| e.0).collect();
         if self.l.replace(&old, &new).is_err() {
