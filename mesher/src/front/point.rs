@@ -57,6 +57,12 @@ pub const DEFAULT_POINT_LENGTH: f64 = 1.2;
 /// The height of the regular tetrahedron of unit edge, `sqrt(2/3)`.
 pub const REGULAR_HEIGHT: f64 = 0.816_496_580_927_726;
 
+/// Where the optimal point's relaxation starts on the face `f` of mean size `hbar`:
+/// the apex of the regular tet of edge `hbar * params.length` on the side of `n`.
+pub fn start(f: [Point; 3], hbar: f64, n: Point, params: &PointParams) -> Point {
+    (f[0] + f[1] + f[2]) / 3.0 + n * (hbar * params.length * REGULAR_HEIGHT)
+}
+
 /// The optimal point on the face `f` with sizes `h` at its vertices, on the side of the
 /// unit normal `n`, and the size there. Inexact construction.
 pub fn optimal_point(
@@ -68,8 +74,7 @@ pub fn optimal_point(
     hint: &mut u32,
 ) -> (Point, f64) {
     let hbar = (h[0] + h[1] + h[2]) / 3.0;
-    let centroid = (f[0] + f[1] + f[2]) / 3.0;
-    let mut p = centroid + n * (hbar * params.length * REGULAR_HEIGHT);
+    let mut p = start(f, hbar, n, params);
     let mut hp = field.size(p, hint);
     for _ in 0..params.steps {
         let mut target = Point::ZERO;
