@@ -288,6 +288,17 @@ fn run(cli: Cli) -> Result<ExitCode> {
     }
 }
 
+/// Tells that input faces were turned to agree in orientation (not a defect: the
+/// surface bounds the same solid).
+pub(crate) fn note_reoriented(turned: usize, faces: usize) {
+    if turned > 0 {
+        eprintln!(
+            "mesher: note: {turned} of {faces} input faces were listed the other way round from \
+             their neighbours and were turned to agree"
+        );
+    }
+}
+
 fn read_points(input: &Path) -> Result<Vec<mesher::Point>> {
     let is_node = input
         .extension()
@@ -401,6 +412,7 @@ fn boundary(
         Err(e) => return Err(e).with_context(|| format!("boundary mesh of {}", path.display())),
     };
     let seconds = t0.elapsed().as_secs_f64();
+    note_reoriented(report.faces_reoriented, report.surface_triangles);
     if validate {
         bm.mesh
             .validate(false)

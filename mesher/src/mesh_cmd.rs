@@ -87,11 +87,21 @@ pub fn mesh(args: &MeshArgs) -> Result<ExitCode> {
         mesher::io::write_with(path, |w| std::io::Write::write_all(w, json.as_bytes()))
             .with_context(|| format!("writing {}", path.display()))?;
     }
+    crate::note_reoriented(
+        report.boundary.faces_reoriented,
+        report.boundary.surface_triangles,
+    );
     if let Some(phase) = &report.time_limit_hit {
         eprintln!("mesher: time limit passed after the {phase}; the later phases were skipped");
     }
+    // A mesh without interior edges (a lone tet) has no band to tell.
+    let in_band = if band.edges == 0 {
+        "no interior edge".to_string()
+    } else {
+        format!("{:.1} % edges in [0.6, 1.67]", band.in_band_percent)
+    };
     eprintln!(
-        "mesher: {} vertices, {} tets, {} iterations{}; worst Q_K {:.2} (Q_t {:.2}), {:.1} % Q_K < 3, {:.1} % edges in [0.6, 1.67]; {:.3} s",
+        "mesher: {} vertices, {} tets, {} iterations{}; worst Q_K {:.2} (Q_t {:.2}), {:.1} % Q_K < 3, {in_band}; {:.3} s",
         report.vertices,
         report.tets,
         report.front.iterations.len(),
@@ -99,7 +109,6 @@ pub fn mesh(args: &MeshArgs) -> Result<ExitCode> {
         summary.worst_q_k,
         q_t.q_t,
         summary.well_shaped_percent,
-        band.in_band_percent,
         report.time_total
     );
     Ok(ExitCode::SUCCESS)

@@ -29,6 +29,28 @@ pub fn boundary_mesh(
     options: &BoundaryOptions,
 ) -> Result<(BoundaryMesh, BoundaryReport), BoundaryError> {
     let t0 = Instant::now();
+    match attempt_all(surface, options, t0) {
+        // Faces listed either way round (a defect of the check) are turned to agree,
+        // and the surface is tried again; the report counts them. Only after a
+        // refusal: a surface that passes the check pays nothing for it.
+        Err(e @ BoundaryError::Defective { .. }) => match surface.reoriented() {
+            Some((turned, n)) => {
+                let mut done = attempt_all(&turned, options, t0)?;
+                done.1.faces_reoriented = n;
+                Ok(done)
+            }
+            None => Err(e),
+        },
+        done => done,
+    }
+}
+
+/// [`boundary_mesh`] on a surface whose faces agree in orientation.
+fn attempt_all(
+    surface: &Surface,
+    options: &BoundaryOptions,
+    t0: Instant,
+) -> Result<(BoundaryMesh, BoundaryReport), BoundaryError> {
     let mut first_error = None;
     // The best success so far, with its options.
     let mut best: Option<(BoundaryOptions, (BoundaryMesh, BoundaryReport))> = None;

@@ -235,6 +235,9 @@ pub struct BoundaryReport {
     pub attempts: usize,
     /// Seconds of all attempts together (0 when there was one).
     pub seconds_all_attempts: f64,
+    /// Input faces turned to agree in orientation with their neighbours (a closed
+    /// surface listed without regard to orientation; [`Surface::reoriented`]).
+    pub faces_reoriented: usize,
 }
 
 /// Why no boundary mesh was built. Every variant names the entity and where it is.

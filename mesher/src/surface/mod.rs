@@ -7,16 +7,19 @@
 //!
 //! Public API: [`Surface::check`] -> [`CheckReport`] (`is_clean`, `num_defects`,
 //! `num_bodies`, `Display` for people, `Serialize` for machines);
+//! [`Surface::reoriented`] for a closed surface whose faces disagree in orientation;
 //! [`Surface::faces_intersect`] for one pair of faces; [`intersect::triangles_intersect`]
 //! and [`intersect::is_collinear`] on bare points.
 //!
 //! Submodules: `check` (entry point, self-intersections), `topology` (indices, edges,
 //! fans), [`intersect`] (exact triangle-triangle test), `bvh` (box hierarchy), `shells`
-//! (components and nesting), [`report`] (the report types and their display).
+//! (components and nesting), `orient` (consistent orientation), [`report`] (the report
+//! types and their display).
 
 pub(crate) mod bvh;
 mod check;
 pub mod intersect;
+mod orient;
 pub mod report;
 mod shells;
 mod topology;

@@ -1,0 +1,245 @@
+//! Consistent orientation of a closed surface whose faces are listed either way round
+//! ([`Surface::reoriented`]): a triangle soup written without regard to orientation
+//! (CGAL's `cube-shuffled.off`, `blobby-shuffled.off`) bounds the same solid, and
+//! TetGen meshes it. Each connected component is first turned to agree with its lowest
+//! face, by a breadth-first walk across its edges; then each closed shell is turned
+//! whole, if need be, so that the solid lies on its inner side: outwards for the
+//! outermost shells, inwards for the cavities inside them, and so on by nesting depth
+//! (then the signed volumes of the faces sum to the enclosed volume). The boundary mesh
+//! does not need this (its domain is a flood fill stopped by the constrained faces,
+//! paper §4.3), its report and output faces do.
+
+use super::report::CheckReport;
+use super::topology::{edge_table, scan};
+use super::{shells, Surface};
+use std::collections::VecDeque;
+
+impl Surface {
+    /// The surface with faces turned so that each edge is run once each way and the
+    /// solid lies on the inner side of each shell (see the module doc), with the number
+    /// of faces turned, when it is closed and 2-manifold (every edge in exactly two
+    /// faces with valid indices), orientable, and some of its faces disagree. `None`
+    /// otherwise: faces that agree are left as they are (an inward surface too, which
+    /// bounds the same solid), and [`Surface::check`] reports the defects of the
+    /// others.
+    pub fn reoriented(&self) -> Option<(Surface, usize)> {
+        let mut turn = self.turns()?;
+        let mut out = self.turned(&turn);
+        // Whole shells turned by nesting depth (the solid inside the outermost ones).
+        let mut report = CheckReport::default();
+        let status = scan(&out, &mut report);
+        let table = edge_table(&out, &status);
+        shells::shells(&out, &status, &table, &mut report);
+        let component = components(&out, &table);
+        for shell in &report.shells {
+            let Some(depth) = shell.depth else { continue };
+            let outward = shell.signed_volume > 0.0;
+            if outward != (depth % 2 == 0) {
+                let id = component[shell.first_face as usize];
+                for (f, t) in turn.iter_mut().enumerate() {
+                    if component[f] == id {
+                        *t = !*t;
+                    }
+                }
+            }
+        }
+        let turned = turn.iter().filter(|&&t| t).count();
+        if turned == 0 {
+            return None;
+        }
+        out = self.turned(&turn);
+        Some((out, turned))
+    }
+
+    /// The surface with the faces `turn` marks reversed.
+    fn turned(&self, turn: &[bool]) -> Surface {
+        let mut out = self.clone();
+        for (t, &flip) in out.triangles.iter_mut().zip(turn) {
+            if flip {
+                t.swap(1, 2);
+            }
+        }
+        out
+    }
+
+    /// Which faces turn so that each component agrees with its lowest face (`None` for
+    /// a surface that is not closed, 2-manifold and orientable, or whose faces agree
+    /// already: those are left as they are, inward shells too).
+    fn turns(&self) -> Option<Vec<bool>> {
+        let mut report = CheckReport::default();
+        let status = scan(self, &mut report);
+        if status.index_ok.iter().any(|ok| !ok) {
+            return None;
+        }
+        let table = edge_table(self, &status);
+        // Per face, its neighbours across its edges, and whether the two run the
+        // shared edge the same way (then one of them must turn relative to the other).
+        let n = self.triangles.len();
+        let mut across: Vec<Vec<(u32, bool)>> = vec![Vec::with_capacity(3); n];
+        let mut consistent = true;
+        for &(a, b) in &table.groups {
+            let [h, k] = table.half[a as usize..b as usize] else {
+                return None;
+            };
+            let same = h.forward == k.forward;
+            consistent &= !same;
+            across[h.face as usize].push((k.face, same));
+            across[k.face as usize].push((h.face, same));
+        }
+        if consistent {
+            return None;
+        }
+        let mut turn = vec![false; n];
+        let mut seen = vec![false; n];
+        let mut queue = VecDeque::new();
+        for root in 0..n {
+            if seen[root] {
+                continue;
+            }
+            seen[root] = true;
+            queue.push_back(root);
+            while let Some(f) = queue.pop_front() {
+                for &(g, same) in &across[f] {
+                    let want = turn[f] ^ same;
+                    let g = g as usize;
+                    if !seen[g] {
+                        seen[g] = true;
+                        turn[g] = want;
+                        queue.push_back(g);
+                    } else if turn[g] != want {
+                        // A Moebius-like band: no consistent orientation exists.
+                        return None;
+                    }
+                }
+            }
+        }
+        Some(turn)
+    }
+}
+
+/// Per face, the lowest face of its connected component (faces joined across edges).
+fn components(s: &Surface, table: &super::topology::EdgeTable) -> Vec<u32> {
+    let n = s.triangles.len();
+    let mut parent: Vec<u32> = (0..n as u32).collect();
+    fn root(parent: &mut [u32], mut f: u32) -> u32 {
+        while parent[f as usize] != f {
+            let up = parent[parent[f as usize] as usize];
+            parent[f as usize] = up;
+            f = up;
+        }
+        f
+    }
+    for &(a, b) in &table.groups {
+        let run = &table.half[a as usize..b as usize];
+        for h in &run[1..] {
+            let (x, y) = (root(&mut parent, run[0].face), root(&mut parent, h.face));
+            // The lower face becomes the root: roots are the components' lowest faces.
+            let (lo, hi) = (x.min(y), x.max(y));
+            parent[hi as usize] = lo;
+        }
+    }
+    (0..n as u32).map(|f| root(&mut parent, f)).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::geom::Point;
+    use crate::surface::Surface;
+
+    fn cube() -> Surface {
+        let vertices = (0..8)
+            .map(|i| Point::new((i & 1) as f64, (i >> 1 & 1) as f64, (i >> 2 & 1) as f64))
+            .collect();
+        let triangles = vec![
+            [0, 2, 1],
+            [1, 2, 3],
+            [4, 5, 6],
+            [5, 7, 6],
+            [0, 1, 4],
+            [1, 5, 4],
+            [2, 6, 3],
+            [3, 6, 7],
+            [0, 4, 2],
+            [2, 4, 6],
+            [1, 3, 5],
+            [3, 7, 5],
+        ];
+        Surface {
+            vertices,
+            triangles,
+        }
+    }
+
+    #[test]
+    fn faces_that_agree_are_left_as_they_are() {
+        let s = cube();
+        assert!(s.check().is_clean(), "{}", s.check());
+        assert!(s.reoriented().is_none());
+        // Every face turned: they agree (inward), and bound the same solid.
+        let mut inward = s.clone();
+        inward.triangles.iter_mut().for_each(|t| t.swap(1, 2));
+        assert!(inward.reoriented().is_none());
+        // One face turned too: the whole turns outward.
+        inward.triangles[3].swap(1, 2);
+        let (back, turned) = inward.reoriented().expect("disagreeing faces");
+        assert_eq!((back, turned), (s, 11));
+    }
+
+    #[test]
+    fn a_cavity_faces_into_itself() {
+        // A cube inside a larger cube, both outward, one face of the outer one turned:
+        // that face and the inner cube turn (the solid is between them), and the faces'
+        // signed volumes then sum to the solid's volume.
+        let outer = cube();
+        let mut s = outer.clone();
+        let n = s.vertices.len() as u32;
+        s.vertices
+            .extend(outer.vertices.iter().map(|p| *p * 0.5 + Point::splat(0.25)));
+        s.triangles
+            .extend(outer.triangles.iter().map(|t| t.map(|v| v + n)));
+        s.triangles[5].swap(0, 2);
+        let (fixed, turned) = s.reoriented().expect("disagreeing faces");
+        assert_eq!(turned, 13);
+        let volume: f64 = fixed
+            .triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|v| fixed.vertices[v as usize]);
+                a.dot(b.cross(c)) / 6.0
+            })
+            .sum();
+        assert!((volume - (1.0 - 0.125)).abs() < 1e-12, "{volume}");
+    }
+
+    #[test]
+    fn faces_turned_at_random_are_turned_back_to_agree_with_the_lowest() {
+        let s = cube();
+        let mut shuffled = s.clone();
+        for f in [1, 4, 5, 9, 11] {
+            shuffled.triangles[f].swap(0, 1);
+        }
+        assert!(!shuffled.check().is_clean());
+        let (fixed, turned) = shuffled.reoriented().expect("orientable and closed");
+        assert_eq!(turned, 5);
+        assert!(fixed.check().is_clean(), "{}", fixed.check());
+        // Outward again: the whole cube is as it was (up to rotation of each face's
+        // indices).
+        for (a, b) in fixed.triangles.iter().zip(&s.triangles) {
+            let mut r = *a;
+            let turns = (0..3).any(|_| {
+                r.rotate_left(1);
+                r == *b
+            });
+            assert!(turns, "{a:?} against {b:?}");
+        }
+    }
+
+    #[test]
+    fn an_open_surface_is_left_to_the_check() {
+        let mut s = cube();
+        s.triangles.pop();
+        s.triangles[0].swap(0, 1);
+        assert!(s.reoriented().is_none());
+        assert!(!s.check().is_clean());
+    }
+}
