@@ -31,9 +31,10 @@ impl Surface {
         let table = edge_table(&out, &status);
         shells::shells(&out, &status, &table, &mut report);
         let component = components(&out, &table);
+        let volume = component_volumes(&out, &component);
         for shell in &report.shells {
             let Some(depth) = shell.depth else { continue };
-            let outward = shell.signed_volume > 0.0;
+            let outward = volume[shell.first_face as usize] > 0.0;
             if outward != (depth % 2 == 0) {
                 let id = component[shell.first_face as usize];
                 for (f, t) in turn.iter_mut().enumerate() {
@@ -115,6 +116,19 @@ impl Surface {
         }
         Some(turn)
     }
+}
+
+/// Per component (indexed by its lowest face), the signed volume it encloses, summed
+/// from a vertex of its own: about the origin, a tiny shell far from it (volume 2e-18,
+/// a fuzzed input) got the wrong sign from rounding.
+fn component_volumes(s: &Surface, component: &[u32]) -> Vec<f64> {
+    let mut volume = vec![0.0; component.len()];
+    for (t, &c) in s.triangles.iter().zip(component) {
+        let o = s.vertices[s.triangles[c as usize][0] as usize];
+        let [a, b, d] = t.map(|v| s.vertices[v as usize] - o);
+        volume[c as usize] += a.dot(b.cross(d)) / 6.0;
+    }
+    volume
 }
 
 /// Per face, the lowest face of its connected component (faces joined across edges).
