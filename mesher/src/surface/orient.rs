@@ -30,17 +30,14 @@ impl Surface {
         let status = scan(&out, &mut report);
         let table = edge_table(&out, &status);
         shells::shells(&out, &status, &table, &mut report);
-        let component = components(&out, &table);
-        let volume = component_volumes(&out, &component);
+        // Shells numbered by their lowest face, as the report numbers them.
+        let (_, faces) = shells::components(&out, &status, &table);
         for shell in &report.shells {
             let Some(depth) = shell.depth else { continue };
-            let outward = volume[shell.first_face as usize] > 0.0;
-            if outward != (depth % 2 == 0) {
-                let id = component[shell.first_face as usize];
-                for (f, t) in turn.iter_mut().enumerate() {
-                    if component[f] == id {
-                        *t = !*t;
-                    }
+            let own = faces.of(shell.id);
+            if (signed_volume(&out, own) > 0.0) != (depth % 2 == 0) {
+                for &f in own {
+                    turn[f as usize] ^= true;
                 }
             }
         }
@@ -118,41 +115,20 @@ impl Surface {
     }
 }
 
-/// Per component (indexed by its lowest face), the signed volume it encloses, summed
-/// from a vertex of its own: about the origin, a tiny shell far from it (volume 2e-18,
-/// a fuzzed input) got the wrong sign from rounding.
-fn component_volumes(s: &Surface, component: &[u32]) -> Vec<f64> {
-    let mut volume = vec![0.0; component.len()];
-    for (t, &c) in s.triangles.iter().zip(component) {
-        let o = s.vertices[s.triangles[c as usize][0] as usize];
-        let [a, b, d] = t.map(|v| s.vertices[v as usize] - o);
-        volume[c as usize] += a.dot(b.cross(d)) / 6.0;
-    }
-    volume
-}
-
-/// Per face, the lowest face of its connected component (faces joined across edges).
-fn components(s: &Surface, table: &super::topology::EdgeTable) -> Vec<u32> {
-    let n = s.triangles.len();
-    let mut parent: Vec<u32> = (0..n as u32).collect();
-    fn root(parent: &mut [u32], mut f: u32) -> u32 {
-        while parent[f as usize] != f {
-            let up = parent[parent[f as usize] as usize];
-            parent[f as usize] = up;
-            f = up;
-        }
-        f
-    }
-    for &(a, b) in &table.groups {
-        let run = &table.half[a as usize..b as usize];
-        for h in &run[1..] {
-            let (x, y) = (root(&mut parent, run[0].face), root(&mut parent, h.face));
-            // The lower face becomes the root: roots are the components' lowest faces.
-            let (lo, hi) = (x.min(y), x.max(y));
-            parent[hi as usize] = lo;
-        }
-    }
-    (0..n as u32).map(|f| root(&mut parent, f)).collect()
+/// The signed volume the faces `own` (one shell) enclose, summed from a vertex of
+/// theirs: about the origin, a tiny shell far from it (volume 2e-18, a fuzzed input)
+/// got the wrong sign from rounding.
+fn signed_volume(s: &Surface, own: &[u32]) -> f64 {
+    let Some(&first) = own.first() else {
+        return 0.0;
+    };
+    let o = s.vertices[s.triangles[first as usize][0] as usize];
+    own.iter()
+        .map(|&f| {
+            let [a, b, c] = s.triangles[f as usize].map(|v| s.vertices[v as usize] - o);
+            a.dot(b.cross(c)) / 6.0
+        })
+        .sum()
 }
 
 #[cfg(test)]
