@@ -45,6 +45,17 @@ impl Surface {
         r.pinched_vertices = topology::pinched_vertices(self, &st);
         r.self_intersections = self_intersections(self, &st);
         shells::shells(self, &st, &et, &mut r);
+        // Faces listed either way round on an otherwise sound surface: still a defect
+        // here, but the boundary mesh repairs it (`Surface::reoriented`); say so.
+        if !r.inconsistent_edges.is_empty() {
+            if let Some((_, turned)) = self.reoriented() {
+                let faces = if turned == 1 { "face" } else { "faces" };
+                r.warnings.push(format!(
+                    "the inconsistently oriented edges are mended by `mesher mesh` and \
+                     `mesher boundary`: {turned} {faces} turned to agree"
+                ));
+            }
+        }
         r
     }
 
