@@ -30,23 +30,28 @@ impl Surface {
         let status = scan(&out, &mut report);
         let table = edge_table(&out, &status);
         shells::shells(&out, &status, &table, &mut report);
-        // Shells numbered by their lowest face, as the report numbers them.
-        let (_, faces) = shells::components(&out, &status, &table);
-        for shell in &report.shells {
-            let Some(depth) = shell.depth else { continue };
-            let own = faces.of(shell.id);
-            if (signed_volume(&out, own) > 0.0) != (depth % 2 == 0) {
-                for &f in own {
-                    turn[f as usize] ^= true;
-                }
+        let volume = shell_volumes(&out, &report);
+        let whole: Vec<bool> = report
+            .shells
+            .iter()
+            .map(|sh| {
+                sh.depth
+                    .is_some_and(|d| (volume[sh.id] > 0.0) != (d % 2 == 0))
+            })
+            .collect();
+        for ((t, flip), &sh) in out
+            .triangles
+            .iter_mut()
+            .zip(&mut turn)
+            .zip(&report.face_shell)
+        {
+            if whole.get(sh as usize) == Some(&true) {
+                t.swap(1, 2);
+                *flip = !*flip;
             }
         }
         let turned = turn.iter().filter(|&&t| t).count();
-        if turned == 0 {
-            return None;
-        }
-        out = self.turned(&turn);
-        Some((out, turned))
+        (turned > 0).then_some((out, turned))
     }
 
     /// The surface with the faces `turn` marks reversed.
@@ -115,20 +120,24 @@ impl Surface {
     }
 }
 
-/// The signed volume the faces `own` (one shell) enclose, summed from a vertex of
-/// theirs: about the origin, a tiny shell far from it (volume 2e-18, a fuzzed input)
-/// got the wrong sign from rounding.
-fn signed_volume(s: &Surface, own: &[u32]) -> f64 {
-    let Some(&first) = own.first() else {
-        return 0.0;
-    };
-    let o = s.vertices[s.triangles[first as usize][0] as usize];
-    own.iter()
-        .map(|&f| {
-            let [a, b, c] = s.triangles[f as usize].map(|v| s.vertices[v as usize] - o);
-            a.dot(b.cross(c)) / 6.0
-        })
-        .sum()
+/// Per shell of `report`, the signed volume it encloses, summed from a vertex of its
+/// own: about the origin, a tiny shell far from it (volume 2e-18, a fuzzed input) got
+/// the wrong sign from rounding.
+fn shell_volumes(s: &Surface, report: &CheckReport) -> Vec<f64> {
+    let origin: Vec<_> = report
+        .shells
+        .iter()
+        .map(|sh| s.vertices[s.triangles[sh.first_face as usize][0] as usize])
+        .collect();
+    let mut volume = vec![0.0; report.shells.len()];
+    for (t, &sh) in s.triangles.iter().zip(&report.face_shell) {
+        let Some(&o) = origin.get(sh as usize) else {
+            continue;
+        };
+        let [a, b, c] = t.map(|v| s.vertices[v as usize] - o);
+        volume[sh as usize] += a.dot(b.cross(c)) / 6.0;
+    }
+    volume
 }
 
 #[cfg(test)]

@@ -39,14 +39,14 @@ pub(crate) struct ShellFaces {
 }
 
 impl ShellFaces {
-    pub(super) fn of(&self, s: usize) -> &[u32] {
+    fn of(&self, s: usize) -> &[u32] {
         &self.faces[self.start[s] as usize..self.start[s + 1] as usize]
     }
 }
 
 /// Labels faces by connected component; returns the shell id per face (`u32::MAX` for
 /// faces with invalid indices) and the face lists.
-pub(super) fn components(s: &Surface, st: &FaceStatus, et: &EdgeTable) -> (Vec<u32>, ShellFaces) {
+fn components(s: &Surface, st: &FaceStatus, et: &EdgeTable) -> (Vec<u32>, ShellFaces) {
     let nf = s.triangles.len();
     let mut parent: Vec<u32> = (0..nf as u32).collect();
     for &(a, b) in &et.groups {
