@@ -85,6 +85,28 @@ impl Recovery {
     /// side of the plane; each side is re-tetrahedralised with the triangles `abx` and
     /// `aby` as its face on the plane: the cone from one of its own ring vertices when
     /// one sees all its faces, else from an interior Steiner point.
+    ///
+    /// Box-with-hole keeps 5 interior Steiner points from such sides (3-6 on eight
+    /// renumberings of its vertices and faces; TetGen -pY: 0 on the file and on all
+    /// eight). Each is a triangular prism between the top face and the hole's wall
+    /// whose three quadrilaterals are flat: two carry input diagonals, and the free
+    /// one, the prism's side towards the inside, twists it (Schönhardt's prism); its
+    /// other diagonal needs the tets behind it to change, and those hang on the
+    /// recovered diagonals of the wall below. Tried and not kept (interior Steiner
+    /// points left: box-with-hole, cheese, turbine, anchor; TetGen: 0, 21, 24, 24):
+    /// - the flip passes taking the missing edges shortest first: 0, 18, 2, 15, but
+    ///   cheese's boundary mesh 0.28 -> 0.33 s (TetGen's 0.32) and 3 points more on
+    ///   average over six renumberings; box-with-hole's 0 comes from lengths equal but
+    ///   for the last bits (compared at 2^-20 relative: 2; renumberings 0-3);
+    /// - before the Steiner point, the side untwisted by removing the edge from `x` or
+    ///   `y` to a vertex of its path, with a search for a tetrahedralisation of that
+    ///   edge's ring and the tets around it without the edge
+    ///   (`reconnect::Search` with the edge forbidden): none keeps the recovered edges
+    ///   around; letting them go and recovering them again: 6, 15, 2, 9, each boundary
+    ///   mesh 30-40 % slower on cheese and turbine;
+    /// - deeper preparatory removals (`flip_depth` 3 and 4), preparatory removals that
+    ///   cut the ring vertex's ear, every stuck edge at full depth before any Steiner
+    ///   point (TetGen's order of link levels): no change.
     fn planar_fan(&mut self, x: u32, y: u32, a: u32, b: u32) -> bool {
         let Some(ring) = self.l.ring(x, y, &mut self.scratch) else {
             return false;
