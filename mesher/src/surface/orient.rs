@@ -145,28 +145,9 @@ mod tests {
     use crate::geom::Point;
     use crate::surface::Surface;
 
+    /// The unit cube, two outward triangles per side.
     fn cube() -> Surface {
-        let vertices = (0..8)
-            .map(|i| Point::new((i & 1) as f64, (i >> 1 & 1) as f64, (i >> 2 & 1) as f64))
-            .collect();
-        let triangles = vec![
-            [0, 2, 1],
-            [1, 2, 3],
-            [4, 5, 6],
-            [5, 7, 6],
-            [0, 1, 4],
-            [1, 5, 4],
-            [2, 6, 3],
-            [3, 6, 7],
-            [0, 4, 2],
-            [2, 4, 6],
-            [1, 3, 5],
-            [3, 7, 5],
-        ];
-        Surface {
-            vertices,
-            triangles,
-        }
+        crate::surface::generate::cube(1)
     }
 
     #[test]
